@@ -1,0 +1,238 @@
+#include "apps/commands.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <Eigen/Core>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <opencv2/core/version.hpp>
+
+#include "f2c/eval/trajectory_error.h"
+#include "f2c/io/conf.h"
+#include "f2c/io/image.h"
+#include "f2c/util/error.h"
+#include "f2c/util/file.h"
+#include "f2c/util/timer.h"
+
+namespace f2c::app {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+json Versions() {
+  return {{"fine2coarse", F2C_VERSION},
+          {"opencv", CV_VERSION},
+          {"eigen", fmt::format("{}.{}.{}", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION)}};
+}
+
+json ToJson(const IoOptions& io) {
+  return {{"intrinsics", io.intrinsics}, {"every", io.every},   {"first", io.first},
+          {"last", io.last},             {"max_time_difference", io.max_time_difference},
+          {"assumed_fps", io.assumed_fps}};
+}
+
+json PairsToJson(const std::vector<PairAlignment>& pairs) {
+  json out = json::array();
+  for (const PairAlignment& p : pairs) {
+    const Eigen::Quaterniond q(p.prev_from_curr.linear());
+    const Eigen::Vector3d t = p.prev_from_curr.translation();
+    out.push_back({{"frame", p.frame},
+                   {"method", MethodName(p.method)},
+                   {"prev_from_curr", {{"t", {t.x(), t.y(), t.z()}}, {"q_xyzw", {q.x(), q.y(), q.z(), q.w()}}}},
+                   {"keypoints_prev", p.keypoints_prev},
+                   {"keypoints_curr", p.keypoints_curr},
+                   {"matches", p.matches},
+                   {"inliers", p.inliers},
+                   {"inlier_rmse", p.inlier_rmse},
+                   {"fitness", p.fitness},
+                   {"overlap_rmse", p.overlap_rmse}});
+  }
+  return out;
+}
+
+json PairStatistics(const std::vector<PairAlignment>& pairs) {
+  int sift = 0, icp = 0, prior = 0;
+  double inliers = 0, fitness = 0, min_fitness = pairs.empty() ? 0.0 : 1.0;
+  for (const PairAlignment& p : pairs) {
+    sift += p.method == AlignmentMethod::kSift;
+    icp += p.method == AlignmentMethod::kIcp;
+    prior += p.method == AlignmentMethod::kMotionPrior;
+    inliers += p.inliers;
+    fitness += p.fitness;
+    min_fitness = std::min(min_fitness, p.fitness);
+  }
+  const double n = std::max<size_t>(pairs.size(), 1);
+  return {{"pairs", pairs.size()},   {"sift", sift},
+          {"icp", icp},              {"motion_prior", prior},
+          {"mean_inliers", inliers / n}, {"mean_fitness", fitness / n},
+          {"min_fitness", min_fitness}};
+}
+
+}  // namespace
+
+int RunRegister(const RegisterArgs& args) {
+  Timer total;
+  args.odometry.Check();
+  const fs::path out = args.output;
+  EnsureWritableDirectory(out);  // fail before minutes of work, not after
+  Timer timer;
+  const RgbdSequence seq = ReadSequence(args.input, args.io);
+  const double read_s = timer.Seconds();
+  spdlog::info("{}: {} layout, {} frames", args.input, LayoutName(seq.layout), seq.frames.size());
+  if (seq.frames.size() < 2) ThrowInputError(args.input, "registration needs at least 2 frames");
+
+  OdometryRun run;
+  run.quiet = args.quiet;
+  if (args.use_cache) run.cache_file = out / "cache" / "odometry_pairs.json";
+  const Odometry odometry = AlignConsecutive(seq, args.odometry, run);
+  const json stats = PairStatistics(odometry.pairs);
+  spdlog::info("odometry: {} pairs ({} SIFT, {} ICP, {} motion prior) in {:.1f} s",
+               odometry.pairs.size(), stats["sift"].get<int>(), stats["icp"].get<int>(),
+               stats["motion_prior"].get<int>(), odometry.timings.wall);
+
+  WriteTumTrajectory(out / "trajectory.txt", odometry.t0);
+  WriteLogTrajectory(out / "trajectory.log", odometry.t0);
+  WriteConf(out / "trajectory.conf", seq, odometry.t0);
+  WriteFileAtomic(out / "odometry.json", PairsToJson(odometry.pairs).dump(1) + "\n");
+
+  const CameraIntrinsics& k = *seq.intrinsics;
+  const json report = {
+      {"input", fs::absolute(args.input).string()},
+      {"layout", LayoutName(seq.layout)},
+      {"frames", seq.frames.size()},
+      {"intrinsics", {{"fx", k.fx}, {"fy", k.fy}, {"cx", k.cx}, {"cy", k.cy}, {"source", seq.intrinsics_source}}},
+      {"versions", Versions()},
+      {"options", {{"io", ToJson(args.io)}, {"odometry", ToJson(args.odometry)}, {"cache", args.use_cache}}},
+      {"stages",
+       {{"read", {{"wall_s", read_s}}},
+        {"odometry", ToJson(odometry.timings, static_cast<int>(seq.frames.size()))}}},
+      {"statistics", {{"odometry", stats}}},
+      {"total_wall_s", total.Seconds()},
+      {"outputs", {"trajectory.txt", "trajectory.log", "trajectory.conf", "odometry.json"}},
+  };
+  WriteFileAtomic(out / "run.json", report.dump(2) + "\n");
+  std::printf("wrote %s (TUM), trajectory.log, trajectory.conf, odometry.json, run.json\n",
+              (out / "trajectory.txt").string().c_str());
+  std::printf("%zu frames in %.1f s (%.1f frames/s)\n", seq.frames.size(), total.Seconds(),
+              seq.frames.size() / total.Seconds());
+  return 0;
+}
+
+namespace {
+
+// Ground truth from a trajectory file or a dataset folder. `frame_timestamps` receives the
+// dataset's frame time stamps (to place estimates that carry frame ids, not stamps).
+Trajectory LoadGroundTruth(const fs::path& path, std::vector<double>* frame_timestamps) {
+  if (fs::is_directory(path) || path.extension() == ".conf") {
+    IoOptions io;
+    io.check_files = false;
+    const RgbdSequence seq = ReadSequence(path, io);
+    if (!seq.ground_truth) ThrowInputError(path, "dataset has no ground-truth trajectory");
+    for (const RgbdFrame& f : seq.frames) frame_timestamps->push_back(f.timestamp);
+    return *seq.ground_truth;
+  }
+  return ReadTrajectoryFile(path);
+}
+
+void PrintStatsRow(const char* name, const char* unit, const ErrorStatistics& s) {
+  std::printf("%-22s %-4s %9.4f %9.4f %9.4f %9.4f %9.4f %9.4f %6d\n", name, unit, s.rmse, s.mean,
+              s.median, s.std, s.min, s.max, s.count);
+}
+
+json StatsJson(const ErrorStatistics& s) {
+  return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std},
+          {"min", s.min},   {"max", s.max},   {"count", s.count}};
+}
+
+}  // namespace
+
+int RunEvaluate(const EvaluateArgs& args) {
+  std::vector<double> frame_timestamps;
+  Trajectory gt = LoadGroundTruth(args.ground_truth, &frame_timestamps);
+  Trajectory est = ReadTrajectoryFile(args.estimate);
+  if (!est.has_timestamps && gt.has_timestamps) {
+    // .log / .conf estimates carry frame ids: place them at the dataset's frame times.
+    if (frame_timestamps.empty()) {
+      ThrowInputError(args.estimate, "has no time stamps (.log/.conf); give --ground-truth as the "
+                                     "dataset folder so frame ids can be placed in time");
+    }
+    for (double& id : est.timestamps) {
+      const auto i = static_cast<long>(id);
+      if (i < 0 || i >= static_cast<long>(frame_timestamps.size())) {
+        ThrowInputError(args.estimate, fmt::format("frame id {} but the dataset has {} frames", i,
+                                                   frame_timestamps.size()));
+      }
+      id = frame_timestamps[i];
+    }
+  }
+  EvaluationOptions options;
+  options.max_time_difference = args.max_time_difference;
+  const EvaluationResult r = Evaluate(est, gt, options);
+  if (args.json) {
+    const json j = {{"estimate", args.estimate},
+                    {"ground_truth", args.ground_truth},
+                    {"ate_m", StatsJson(r.ate.translation)},
+                    {"estimated_poses", r.ate.estimated_poses},
+                    {"rpe_per_frame", {{"translation_m", StatsJson(r.rpe_per_frame.translation)},
+                                       {"rotation_deg", StatsJson(r.rpe_per_frame.rotation)}}},
+                    {"rpe_per_second", {{"translation_m", StatsJson(r.rpe_per_second.translation)},
+                                        {"rotation_deg", StatsJson(r.rpe_per_second.rotation)}}}};
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s vs %s: %d of %d poses associated\n", args.estimate.c_str(), args.ground_truth.c_str(),
+              r.ate.translation.count, r.ate.estimated_poses);
+  std::printf("%-22s %-4s %9s %9s %9s %9s %9s %9s %6s\n", "metric", "unit", "rmse", "mean", "median",
+              "std", "min", "max", "n");
+  PrintStatsRow("ATE", "m", r.ate.translation);
+  PrintStatsRow("RPE/frame translation", "m", r.rpe_per_frame.translation);
+  PrintStatsRow("RPE/frame rotation", "deg", r.rpe_per_frame.rotation);
+  PrintStatsRow("RPE/s translation", "m", r.rpe_per_second.translation);
+  PrintStatsRow("RPE/s rotation", "deg", r.rpe_per_second.rotation);
+  return 0;
+}
+
+int RunInfo(const InfoArgs& args) {
+  const RgbdSequence seq = ReadSequence(args.input, args.io);
+  std::printf("input        %s\n", args.input.c_str());
+  std::printf("layout       %s\n", LayoutName(seq.layout).c_str());
+  std::printf("frames       %zu (%.3f .. %.3f s)\n", seq.frames.size(), seq.frames.front().timestamp,
+              seq.frames.back().timestamp);
+  if (seq.intrinsics) {
+    const CameraIntrinsics& k = *seq.intrinsics;
+    std::printf("intrinsics   fx %.3f fy %.3f cx %.3f cy %.3f (%s)\n", k.fx, k.fy, k.cx, k.cy,
+                seq.intrinsics_source.c_str());
+  } else {
+    std::printf("intrinsics   none in the folder: pass --intrinsics (tum-fr1, tum-fr2, tum-fr3, "
+                "primesense, or fx,fy,cx,cy)\n");
+  }
+  std::printf("depth        %s, %.6g m per unit, invalid values %s\n",
+              seq.depth_encoding == DepthEncoding::kSun3dBitRotated ? "SUN3D bit-rotated" : "plain 16-bit",
+              seq.depth_scale, fmt::format("{}", fmt::join(seq.invalid_depth_values, ", ")).c_str());
+  // Depth range measured on the first frame.
+  const cv::Mat depth = LoadDepthMeters(seq, seq.frames.front());
+  double lo = 1e9, hi = 0;
+  int valid = 0;
+  for (int v = 0; v < depth.rows; ++v) {
+    for (int u = 0; u < depth.cols; ++u) {
+      const float z = depth.at<float>(v, u);
+      if (z > 0) {
+        lo = std::min<double>(lo, z);
+        hi = std::max<double>(hi, z);
+        ++valid;
+      }
+    }
+  }
+  std::printf("depth range  %.3f .. %.3f m in frame 0 (%.1f%% of pixels valid)\n", valid ? lo : 0.0, hi,
+              100.0 * valid / depth.total());
+  if (seq.ground_truth) {
+    std::printf("ground truth %zu poses (%s)\n", seq.ground_truth->size(), seq.ground_truth_source.string().c_str());
+  } else {
+    std::printf("ground truth none\n");
+  }
+  return 0;
+}
+
+}  // namespace f2c::app

@@ -1,0 +1,36 @@
+#pragma once
+// The subcommands of the fine2coarse CLI. Each returns the process exit code; bad input
+// propagates as InputError, which main() turns into one line and exit 1.
+
+#include <string>
+
+#include "f2c/io/sequence.h"
+#include "f2c/odometry/odometry.h"
+
+namespace f2c::app {
+
+struct RegisterArgs {
+  std::string input;
+  std::string output;
+  IoOptions io;
+  OdometryOptions odometry;
+  bool use_cache = true;
+  bool quiet = false;
+};
+int RunRegister(const RegisterArgs& args);
+
+struct EvaluateArgs {
+  std::string estimate;
+  std::string ground_truth;
+  bool json = false;
+  double max_time_difference = 0.02;
+};
+int RunEvaluate(const EvaluateArgs& args);
+
+struct InfoArgs {
+  std::string input;
+  IoOptions io;
+};
+int RunInfo(const InfoArgs& args);
+
+}  // namespace f2c::app

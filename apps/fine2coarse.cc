@@ -1,0 +1,109 @@
+// fine2coarse: RGB-D sequence -> camera poses (and, as the pipeline grows, mesh and report).
+//
+//   fine2coarse register INPUT -o OUTDIR [options]
+//   fine2coarse evaluate --estimate FILE --ground-truth FILE_OR_DATASET [--json]
+//   fine2coarse info INPUT
+//
+// Exit status: 0 success, 1 bad input (one line naming the file), 2 bad usage.
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <spdlog/spdlog.h>
+
+#include "apps/commands.h"
+#include "f2c/util/error.h"
+
+namespace {
+
+void AddFrameSelection(CLI::App* cmd, f2c::IoOptions* io) {
+  cmd->add_option("--intrinsics", io->intrinsics,
+                  "fx,fy,cx,cy or a preset: tum-fr1, tum-fr2, tum-fr3, primesense (TUM folders "
+                  "carry none; overrides a dataset's own)");
+  cmd->add_option("--every", io->every, "use every N-th frame")->check(CLI::PositiveNumber);
+  cmd->add_option("--first", io->first, "first frame (0-based)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--last", io->last, "last frame, inclusive (-1: the end)");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  spdlog::set_pattern("[%H:%M:%S] %v");
+  CLI::App app{"fine2coarse: fine-to-coarse global registration of RGB-D scans"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", F2C_VERSION);
+
+  f2c::app::RegisterArgs reg;
+  CLI::App* reg_cmd = app.add_subcommand(
+      "register", "align consecutive frames (SIFT + 3D RANSAC, ICP fallback) into T0 and write "
+                  "OUTDIR/trajectory.txt (TUM), trajectory.log, trajectory.conf, odometry.json, run.json");
+  reg_cmd->add_option("INPUT", reg.input, "dataset folder (TUM, 7-Scenes/3DMatch, Redwood/Open3D, SUN3D) or .conf")
+      ->required();
+  reg_cmd->add_option("-o,--output", reg.output, "output folder")->required();
+  AddFrameSelection(reg_cmd, &reg.io);
+  auto& od = reg.odometry;
+  reg_cmd->add_option("--seed", od.seed, "seed of all random choices")->capture_default_str();
+  reg_cmd->add_option("--min-depth", od.sift.min_depth, "nearest valid depth (m)")->capture_default_str();
+  reg_cmd->add_option("--max-depth", od.sift.max_depth, "farthest valid depth (m)")->capture_default_str();
+  reg_cmd->add_option("--ratio", od.ratio, "SIFT ratio test")->capture_default_str();
+  reg_cmd->add_option("--relaxed-ratio", od.relaxed_ratio, "ratio used when few matches pass")
+      ->capture_default_str();
+  reg_cmd->add_option("--ransac-threshold", od.ransac.inlier_threshold, "RANSAC inlier distance (m)")
+      ->capture_default_str();
+  reg_cmd->add_option("--ransac-iterations", od.ransac.max_iterations, "RANSAC iteration cap")
+      ->capture_default_str();
+  reg_cmd->add_option("--robust-scale", od.ransac.robust_scale,
+                      "Cauchy scale (m) of the final reweighted refit on RANSAC inliers (0: off)")
+      ->capture_default_str();
+  reg_cmd->add_option("--min-inliers", od.min_inliers, "fewer SIFT inliers fall back to ICP")
+      ->capture_default_str();
+  bool no_icp = false, no_cache = false;
+  reg_cmd->add_flag("--no-icp-fallback", no_icp, "never use depth-only ICP");
+  reg_cmd->add_flag("--no-cache", no_cache, "ignore and do not write OUTDIR/cache");
+  reg_cmd->add_flag("-q,--quiet", reg.quiet, "no progress output");
+
+  f2c::app::EvaluateArgs eval;
+  CLI::App* eval_cmd = app.add_subcommand(
+      "evaluate", "ATE (after rigid alignment) and RPE (per frame, per second) of a trajectory, "
+                  "as the TUM benchmark tools compute them");
+  eval_cmd->add_option("--estimate", eval.estimate, "trajectory: TUM text, .log or .conf")->required();
+  eval_cmd->add_option("--ground-truth", eval.ground_truth,
+                       "ground truth: a trajectory file, or a dataset folder that has one")
+      ->required();
+  eval_cmd->add_flag("--json", eval.json, "print JSON instead of a table");
+  eval_cmd->add_option("--max-time-difference", eval.max_time_difference,
+                       "association window (s)")
+      ->capture_default_str();
+
+  f2c::app::InfoArgs info;
+  CLI::App* info_cmd = app.add_subcommand("info", "what a dataset folder holds: layout, frames, "
+                                                  "intrinsics, depth range, ground truth");
+  info_cmd->add_option("INPUT", info.input, "dataset folder or .conf")->required();
+  AddFrameSelection(info_cmd, &info.io);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  }
+  reg.odometry.icp_fallback = !no_icp;
+  reg.use_cache = !no_cache;
+  try {
+    if (*reg_cmd) return f2c::app::RunRegister(reg);
+    if (*eval_cmd) return f2c::app::RunEvaluate(eval);
+    if (*info_cmd) return f2c::app::RunInfo(info);
+  } catch (const f2c::InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "internal error: %s\n", e.what());
+    return 3;
+  }
+  return 2;
+}

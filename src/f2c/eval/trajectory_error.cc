@@ -1,0 +1,117 @@
+#include "f2c/eval/trajectory_error.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "f2c/geometry/rigid.h"
+#include "f2c/io/readers.h"
+#include "f2c/util/error.h"
+
+namespace f2c {
+
+void EvaluationOptions::Check() const {
+  if (!(max_time_difference > 0)) ThrowInputError("max_time_difference", "must be positive");
+  if (!(rpe_delta_seconds > 0)) ThrowInputError("rpe_delta_seconds", "must be positive");
+  if (rpe_delta_frames < 1) ThrowInputError("rpe_delta_frames", "must be >= 1");
+}
+
+ErrorStatistics ComputeStatistics(std::vector<double> e) {
+  ErrorStatistics s;
+  s.count = static_cast<int>(e.size());
+  if (e.empty()) return s;
+  const double n = static_cast<double>(e.size());
+  double sum = 0, sum2 = 0;
+  for (double v : e) {
+    sum += v;
+    sum2 += v * v;
+  }
+  s.mean = sum / n;
+  s.rmse = std::sqrt(sum2 / n);
+  s.std = std::sqrt(std::max(0.0, sum2 / n - s.mean * s.mean));  // numpy.std: population
+  std::sort(e.begin(), e.end());
+  s.min = e.front();
+  s.max = e.back();
+  const size_t m = e.size() / 2;
+  s.median = e.size() % 2 ? e[m] : 0.5 * (e[m - 1] + e[m]);
+  return s;
+}
+
+AteResult ComputeAte(const Trajectory& estimate, const Trajectory& ground_truth,
+                     const EvaluationOptions& options) {
+  const auto matches =
+      internal::AssociateTimestamps(estimate.timestamps, ground_truth.timestamps, options.max_time_difference);
+  if (matches.size() < 3) {
+    ThrowInputError("estimate", fmt::format("only {} of {} poses have a ground-truth pose within {} s; "
+                                            "time stamps from another sequence?",
+                                            matches.size(), estimate.size(), options.max_time_difference));
+  }
+  Eigen::Matrix3Xd est(3, matches.size()), gt(3, matches.size());
+  for (size_t i = 0; i < matches.size(); ++i) {
+    est.col(i) = estimate.world_from_camera[matches[i].first].translation();
+    gt.col(i) = ground_truth.world_from_camera[matches[i].second].translation();
+  }
+  AteResult result;
+  result.estimated_poses = static_cast<int>(estimate.size());
+  result.gt_from_estimate.matrix() = Eigen::umeyama(est, gt, false);
+  for (size_t i = 0; i < matches.size(); ++i) {
+    result.errors.push_back((result.gt_from_estimate * Eigen::Vector3d(est.col(i)) - gt.col(i)).norm());
+  }
+  result.translation = ComputeStatistics(result.errors);
+  return result;
+}
+
+namespace {
+
+size_t ClosestIndex(const std::vector<double>& sorted, double value) {
+  const auto it = std::lower_bound(sorted.begin(), sorted.end(), value);
+  size_t j = std::min<size_t>(it - sorted.begin(), sorted.size() - 1);
+  if (j > 0 && std::abs(sorted[j - 1] - value) <= std::abs(sorted[j] - value)) --j;
+  return j;
+}
+
+}  // namespace
+
+RpeResult ComputeRpe(const Trajectory& estimate, const Trajectory& ground_truth, double delta,
+                     bool in_seconds) {
+  RpeResult result;
+  const auto& te = estimate.timestamps;
+  const auto& tg = ground_truth.timestamps;
+  if (te.size() < 2 || tg.size() < 2) return result;
+  // A pose counts only if the ground truth has a sample within 2 median intervals (as TUM).
+  std::vector<double> intervals;
+  for (size_t i = 1; i < tg.size(); ++i) intervals.push_back(tg[i] - tg[i - 1]);
+  std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
+  const double max_gap = 2 * intervals[intervals.size() / 2];
+  std::vector<double> trans, rot;
+  for (size_t i = 0; i < te.size(); ++i) {
+    const size_t j = in_seconds ? ClosestIndex(te, te[i] + delta) : i + static_cast<size_t>(delta);
+    // As evaluate_rpe.py: a pair whose end is (or is clamped to) the last pose is dropped.
+    if (j >= te.size() - 1) continue;
+    if (j <= i) continue;
+    const size_t gi = ClosestIndex(tg, te[i]), gj = ClosestIndex(tg, te[j]);
+    if (std::abs(tg[gi] - te[i]) > max_gap || std::abs(tg[gj] - te[j]) > max_gap) continue;
+    const Rigid3d est_rel = estimate.world_from_camera[i].inverse() * estimate.world_from_camera[j];
+    const Rigid3d gt_rel = ground_truth.world_from_camera[gi].inverse() * ground_truth.world_from_camera[gj];
+    const Rigid3d error = gt_rel.inverse() * est_rel;
+    trans.push_back(error.translation().norm());
+    rot.push_back(RotationAngle(error.linear()) * 180.0 / M_PI);
+  }
+  result.translation = ComputeStatistics(trans);
+  result.rotation = ComputeStatistics(rot);
+  return result;
+}
+
+EvaluationResult Evaluate(const Trajectory& estimate, const Trajectory& ground_truth,
+                          const EvaluationOptions& options) {
+  options.Check();
+  EvaluationResult result;
+  result.ate = ComputeAte(estimate, ground_truth, options);
+  result.rpe_per_frame = ComputeRpe(estimate, ground_truth, options.rpe_delta_frames, false);
+  result.rpe_per_second = ComputeRpe(estimate, ground_truth, options.rpe_delta_seconds, true);
+  return result;
+}
+
+}  // namespace f2c

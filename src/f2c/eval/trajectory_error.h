@@ -1,0 +1,61 @@
+#pragma once
+// Trajectory error as the TUM RGB-D benchmark tools define it.
+//
+// ATE (evaluate_ate.py): associate estimate and ground truth by time stamp (nearest, within
+// max_time_difference, greedy unique), fit the rigid transform (Horn/Umeyama, no scale)
+// that maps estimated positions onto true ones, and take the per-pose distances.
+//
+// RPE (evaluate_rpe.py, fixed delta): for each estimated pose i, j = the pose closest to
+// stamp_i + delta (seconds) or i + delta (frames); the error of the relative motion is
+// E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j), Q ground truth, P estimate; translational error |trans E|
+// (metres), rotational error angle(E) (degrees).
+
+#include <vector>
+
+#include "f2c/io/trajectory.h"
+
+namespace f2c {
+
+struct ErrorStatistics {
+  int count = 0;
+  double rmse = 0, mean = 0, median = 0, std = 0, min = 0, max = 0;
+};
+ErrorStatistics ComputeStatistics(std::vector<double> errors);
+
+struct EvaluationOptions {
+  double max_time_difference = 0.02;  // seconds, for ATE association (TUM default)
+  double rpe_delta_seconds = 1.0;     // RPE per second
+  int rpe_delta_frames = 1;           // RPE per frame
+  void Check() const;
+};
+
+struct AteResult {
+  ErrorStatistics translation;  // metres
+  Rigid3d gt_from_estimate = Rigid3d::Identity();
+  int estimated_poses = 0;
+  std::vector<double> errors;   // per associated pose
+};
+
+struct RpeResult {
+  ErrorStatistics translation;  // metres
+  ErrorStatistics rotation;     // degrees
+};
+
+struct EvaluationResult {
+  AteResult ate;
+  RpeResult rpe_per_frame;
+  RpeResult rpe_per_second;
+};
+
+// InputError (naming "estimate") when fewer than 3 poses associate.
+AteResult ComputeAte(const Trajectory& estimate, const Trajectory& ground_truth,
+                     const EvaluationOptions& options = {});
+
+// `delta` in seconds if `in_seconds`, else in frames of the estimate.
+RpeResult ComputeRpe(const Trajectory& estimate, const Trajectory& ground_truth, double delta,
+                     bool in_seconds);
+
+EvaluationResult Evaluate(const Trajectory& estimate, const Trajectory& ground_truth,
+                          const EvaluationOptions& options = {});
+
+}  // namespace f2c

@@ -1,0 +1,62 @@
+#include "f2c/features/sift.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/features2d.hpp>
+
+#include "f2c/util/error.h"
+
+namespace f2c {
+
+void SiftOptions::Check() const {
+  if (max_features < 0) ThrowInputError("sift.max_features", "must be >= 0");
+  if (octave_layers < 1) ThrowInputError("sift.octave_layers", "must be >= 1");
+  if (!(contrast_threshold > 0)) ThrowInputError("sift.contrast_threshold", "must be positive");
+  if (!(edge_threshold > 0)) ThrowInputError("sift.edge_threshold", "must be positive");
+  if (!(sigma > 0)) ThrowInputError("sift.sigma", "must be positive");
+  if (!(min_depth >= 0 && max_depth > min_depth)) {
+    ThrowInputError("depth range", fmt::format("need 0 <= min < max, got {}..{}", min_depth, max_depth));
+  }
+  if (!(max_depth_spread > 0)) ThrowInputError("sift.max_depth_spread", "must be positive");
+}
+
+SiftFeatures ExtractSiftWithDepth(const cv::Mat& gray, const cv::Mat& depth,
+                                  const CameraIntrinsics& intrinsics, const SiftOptions& options) {
+  F2C_CHECK(gray.type() == CV_8UC1 && depth.type() == CV_32FC1 && gray.size() == depth.size(),
+            "gray 8UC1 and depth 32FC1 of one size");
+  auto sift = cv::SIFT::create(options.max_features, options.octave_layers,
+                               options.contrast_threshold, options.edge_threshold, options.sigma);
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;
+  sift->detectAndCompute(gray, cv::noArray(), keypoints, descriptors);
+
+  SiftFeatures features;
+  features.detected = static_cast<int>(keypoints.size());
+  std::vector<int> kept;
+  for (int i = 0; i < static_cast<int>(keypoints.size()); ++i) {
+    const int u = static_cast<int>(std::lround(keypoints[i].pt.x));
+    const int v = static_cast<int>(std::lround(keypoints[i].pt.y));
+    if (u < 1 || v < 1 || u >= depth.cols - 1 || v >= depth.rows - 1) continue;
+    const float z = depth.at<float>(v, u);
+    if (!(z >= options.min_depth && z <= options.max_depth)) continue;
+    float lo = z, hi = z;
+    for (int dv = -1; dv <= 1; ++dv) {
+      for (int du = -1; du <= 1; ++du) {
+        const float d = depth.at<float>(v + dv, u + du);
+        lo = std::min(lo, d);
+        hi = std::max(hi, d);
+      }
+    }
+    if (lo <= 0 || hi - lo > options.max_depth_spread * z) continue;
+    features.points_in_camera.push_back(intrinsics.Unproject(keypoints[i].pt.x, keypoints[i].pt.y, z));
+    features.pixels.push_back(keypoints[i].pt);
+    kept.push_back(i);
+  }
+  features.descriptors.create(static_cast<int>(kept.size()), descriptors.cols, CV_32F);
+  for (size_t r = 0; r < kept.size(); ++r) descriptors.row(kept[r]).copyTo(features.descriptors.row(static_cast<int>(r)));
+  return features;
+}
+
+}  // namespace f2c

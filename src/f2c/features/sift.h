@@ -1,0 +1,44 @@
+#pragma once
+// SIFT keypoints in the colour image that have valid depth, lifted to 3D (paper §4.1,
+// "Aligning Adjacent Images": detect SIFT in colour, prune those without valid depth,
+// assign 3D positions to the rest).
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "f2c/geometry/intrinsics.h"
+
+namespace f2c {
+
+struct SiftOptions {
+  // OpenCV SIFT parameters (Lowe's defaults). 0 features = keep all.
+  int max_features = 0;
+  int octave_layers = 3;
+  double contrast_threshold = 0.04;
+  double edge_threshold = 10.0;
+  double sigma = 1.6;
+  // Keypoints keep only depth in [min_depth, max_depth] metres (Kinect-class sensors are
+  // unreliable outside; the authors cap at 5 m).
+  double min_depth = 0.3;
+  double max_depth = 5.0;
+  // A keypoint on a depth discontinuity has no single depth: drop it when the 3x3
+  // neighbourhood's depths spread by more than this fraction of the centre depth.
+  double max_depth_spread = 0.05;
+
+  void Check() const;  // InputError naming the field when out of range
+};
+
+struct SiftFeatures {
+  std::vector<Eigen::Vector3d> points_in_camera;  // metres
+  std::vector<cv::Point2f> pixels;
+  cv::Mat descriptors;                             // CV_32F, one row per point
+  int detected = 0;                                // keypoints before the depth test
+  size_t size() const { return points_in_camera.size(); }
+};
+
+// `gray` is 8-bit single channel, `depth` CV_32F metres (0 = invalid), same size.
+SiftFeatures ExtractSiftWithDepth(const cv::Mat& gray, const cv::Mat& depth,
+                                  const CameraIntrinsics& intrinsics, const SiftOptions& options);
+
+}  // namespace f2c

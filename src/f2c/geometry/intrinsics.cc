@@ -1,0 +1,83 @@
+#include "f2c/geometry/intrinsics.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+
+#include "f2c/util/error.h"
+#include "f2c/util/text.h"
+
+namespace f2c {
+namespace {
+
+const std::map<std::string, CameraIntrinsics>& Presets() {
+  static const std::map<std::string, CameraIntrinsics> presets = {
+      {"tum-fr1", {517.3, 516.5, 318.6, 255.3, 640, 480}},
+      {"tum-fr2", {520.9, 521.0, 325.1, 249.7, 640, 480}},
+      {"tum-fr3", {535.4, 539.2, 320.1, 247.6, 640, 480}},
+      {"primesense", {525.0, 525.0, 319.5, 239.5, 640, 480}},
+  };
+  return presets;
+}
+
+}  // namespace
+
+void CameraIntrinsics::Validate(const std::string& source) const {
+  if (!(std::isfinite(fx) && std::isfinite(fy) && fx > 0 && fy > 0)) {
+    ThrowInputError(source, fmt::format("focal length must be positive (fx={}, fy={})", fx, fy));
+  }
+  if (!(std::isfinite(cx) && std::isfinite(cy) && cx >= 0 && cy >= 0 && cx < width &&
+        cy < height)) {
+    ThrowInputError(source, fmt::format("principal point ({}, {}) lies outside the {}x{} image",
+                                        cx, cy, width, height));
+  }
+}
+
+std::vector<std::string> IntrinsicsPresetNames() {
+  std::vector<std::string> names;
+  for (const auto& [name, _] : Presets()) names.push_back(name);
+  return names;
+}
+
+CameraIntrinsics ParseIntrinsics(const std::string& text, const std::string& source) {
+  if (const auto it = Presets().find(text); it != Presets().end()) return it->second;
+  std::vector<double> values;
+  size_t begin = 0;
+  while (begin <= text.size()) {
+    const size_t end = std::min(text.find(',', begin), text.size());
+    double v = 0;
+    if (!ParseDouble(text.substr(begin, end - begin), &v)) {
+      ThrowInputError(source, fmt::format("'{}' is neither fx,fy,cx,cy nor a preset ({})", text,
+                                          fmt::join(IntrinsicsPresetNames(), ", ")));
+    }
+    values.push_back(v);
+    begin = end + 1;
+  }
+  if (values.size() != 4) {
+    ThrowInputError(source, fmt::format("expected 4 numbers fx,fy,cx,cy, got {}", values.size()));
+  }
+  CameraIntrinsics intrinsics{values[0], values[1], values[2], values[3], 640, 480};
+  intrinsics.Validate(source);
+  return intrinsics;
+}
+
+CameraIntrinsics ReadIntrinsicsMatrixFile(const std::filesystem::path& path) {
+  std::vector<double> m;
+  for (const TextLine& line : ReadDataLines(path)) {
+    const auto values = ParseDoublesOrThrow(SplitWhitespace(line.text), 0, path, line.number,
+                                            "a 3x3 camera matrix");
+    m.insert(m.end(), values.begin(), values.end());
+  }
+  if (m.size() != 9) {
+    ThrowInputError(path, fmt::format("expected a 3x3 camera matrix (9 numbers), got {}", m.size()));
+  }
+  if (m[1] != 0 || m[3] != 0 || m[6] != 0 || m[7] != 0 || m[8] != 1) {
+    ThrowInputError(path, "not a camera matrix [fx 0 cx; 0 fy cy; 0 0 1]");
+  }
+  CameraIntrinsics intrinsics{m[0], m[4], m[2], m[5], 640, 480};
+  intrinsics.Validate(path.string());
+  return intrinsics;
+}
+
+}  // namespace f2c

@@ -1,0 +1,27 @@
+#pragma once
+// Decoding colour and depth images, with the checks that make a bad frame an error that
+// names the file instead of a crash or silent garbage.
+
+#include <opencv2/core.hpp>
+
+#include "f2c/io/sequence.h"
+
+namespace f2c {
+
+// Depth in metres (CV_32F); invalid pixels are 0. Checks: the file decodes, is 16-bit single
+// channel, and has the intrinsics' size when intrinsics are known.
+cv::Mat LoadDepthMeters(const RgbdSequence& sequence, const RgbdFrame& frame);
+
+// Colour as 8-bit BGR. Checks that it decodes and that its size equals the depth's
+// (`depth_size`, skipped when empty).
+cv::Mat LoadColor(const RgbdFrame& frame, cv::Size depth_size = {});
+
+// Decodes one 16-bit value to millimetre-like units per the encoding (before depth_scale).
+inline uint16_t DecodeDepthValue(uint16_t v, DepthEncoding encoding) {
+  if (encoding == DepthEncoding::kSun3dBitRotated) {
+    return static_cast<uint16_t>((v >> 3) | (v << 13));
+  }
+  return v;
+}
+
+}  // namespace f2c

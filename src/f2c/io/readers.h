@@ -1,0 +1,25 @@
+#pragma once
+// The per-layout readers behind ReadSequence (internal to f2c_io).
+
+#include <filesystem>
+
+#include "f2c/io/sequence.h"
+
+namespace f2c::internal {
+
+RgbdSequence ReadTum(const std::filesystem::path& dir, const IoOptions& options);
+RgbdSequence ReadSevenScenes(const std::filesystem::path& dir, const IoOptions& options);
+RgbdSequence ReadRedwood(const std::filesystem::path& dir, const IoOptions& options);
+RgbdSequence ReadSun3d(const std::filesystem::path& dir, const IoOptions& options);
+
+// Image files (.png, .jpg, .jpeg, .ppm, .pgm) directly in `dir`, sorted by name.
+std::vector<std::filesystem::path> ListImages(const std::filesystem::path& dir);
+
+// Pairs each of `a` with the nearest unused of `b` within `max_difference`, as the TUM
+// tools' associate.py does (greedy by smallest difference). Returns (index_a, index_b)
+// sorted by index_a.
+std::vector<std::pair<size_t, size_t>> AssociateTimestamps(const std::vector<double>& a,
+                                                           const std::vector<double>& b,
+                                                           double max_difference);
+
+}  // namespace f2c::internal

@@ -1,0 +1,149 @@
+#include "f2c/io/sequence.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+
+#include "f2c/io/conf.h"
+#include "f2c/io/readers.h"
+#include "f2c/util/error.h"
+
+namespace f2c {
+namespace fs = std::filesystem;
+
+std::string LayoutName(DatasetLayout layout) {
+  switch (layout) {
+    case DatasetLayout::kTum: return "tum";
+    case DatasetLayout::kSevenScenes: return "7scenes";
+    case DatasetLayout::kRedwood: return "redwood";
+    case DatasetLayout::kSun3d: return "sun3d";
+    case DatasetLayout::kConf: return "conf";
+  }
+  return "?";
+}
+
+void IoOptions::Check() const {
+  if (every < 1) ThrowInputError("--every", fmt::format("must be >= 1, got {}", every));
+  if (first < 0) ThrowInputError("--first", fmt::format("must be >= 0, got {}", first));
+  if (last >= 0 && last < first) {
+    ThrowInputError("--last", fmt::format("{} is before --first {}", last, first));
+  }
+  if (!(max_time_difference > 0)) ThrowInputError("max_time_difference", "must be positive");
+  if (!(assumed_fps > 0)) ThrowInputError("assumed_fps", "must be positive");
+  if (!intrinsics.empty()) ParseIntrinsics(intrinsics, "--intrinsics");
+}
+
+namespace {
+
+bool HasSevenScenesFrames(const fs::path& dir) {
+  auto has_depth_frames = [](const fs::path& d) {
+    for (const auto& e : fs::directory_iterator(d)) {
+      const std::string name = e.path().filename().string();
+      if (name.rfind("frame-", 0) == 0 && name.ends_with(".depth.png")) return true;
+    }
+    return false;
+  };
+  if (has_depth_frames(dir)) return true;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.is_directory() && e.path().filename().string().rfind("seq-", 0) == 0 &&
+        has_depth_frames(e.path())) {
+      return true;
+    }
+  }
+  return false;
+}
+
+std::vector<fs::path> ConfFilesIn(const fs::path& dir) {
+  std::vector<fs::path> confs;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.is_regular_file() && e.path().extension() == ".conf") confs.push_back(e.path());
+  }
+  return confs;
+}
+
+void SelectFrames(const fs::path& path, const IoOptions& options, RgbdSequence* sequence) {
+  const int n = static_cast<int>(sequence->frames.size());
+  const int last = options.last < 0 ? n - 1 : std::min(options.last, n - 1);
+  std::vector<RgbdFrame> selected;
+  for (int i = options.first; i <= last; i += options.every) selected.push_back(sequence->frames[i]);
+  if (selected.empty()) {
+    ThrowInputError(path, fmt::format("frame selection --first {} --last {} leaves no frame "
+                                      "(the sequence has {})",
+                                      options.first, options.last, n));
+  }
+  sequence->frames = std::move(selected);
+}
+
+void CheckFilesExist(const RgbdSequence& sequence) {
+  for (const RgbdFrame& frame : sequence.frames) {
+    for (const fs::path& p : {frame.color_path, frame.depth_path}) {
+      if (!fs::is_regular_file(p)) ThrowInputError(p, "missing frame image (listed in the dataset)");
+    }
+  }
+}
+
+}  // namespace
+
+DatasetLayout DetectLayout(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) ThrowInputError(path, "no such file or folder");
+  if (fs::is_regular_file(path)) {
+    if (path.extension() == ".conf") return DatasetLayout::kConf;
+    ThrowInputError(path, "not a dataset folder or .conf file");
+  }
+  if (fs::is_empty(path, ec)) ThrowInputError(path, "folder is empty");
+  if (fs::exists(path / "rgb.txt") && fs::exists(path / "depth.txt")) return DatasetLayout::kTum;
+  if (HasSevenScenesFrames(path)) return DatasetLayout::kSevenScenes;
+  if (fs::is_directory(path / "image") && fs::is_directory(path / "depth") &&
+      fs::exists(path / "intrinsics.txt")) {
+    return DatasetLayout::kSun3d;
+  }
+  if ((fs::is_directory(path / "color") || fs::is_directory(path / "image")) &&
+      fs::is_directory(path / "depth")) {
+    return DatasetLayout::kRedwood;
+  }
+  if (ConfFilesIn(path).size() == 1) return DatasetLayout::kConf;
+  ThrowInputError(path,
+                  "unknown dataset layout (expected TUM rgb.txt + depth.txt, 7-Scenes/3DMatch "
+                  "frame-*.depth.png, SUN3D image/ + depth/ + intrinsics.txt, Redwood color/ + "
+                  "depth/, or one .conf file)");
+}
+
+RgbdSequence ReadSequence(const fs::path& path, const IoOptions& options) {
+  options.Check();
+  const DatasetLayout layout = DetectLayout(path);
+  RgbdSequence sequence;
+  switch (layout) {
+    case DatasetLayout::kTum: sequence = internal::ReadTum(path, options); break;
+    case DatasetLayout::kSevenScenes: sequence = internal::ReadSevenScenes(path, options); break;
+    case DatasetLayout::kRedwood: sequence = internal::ReadRedwood(path, options); break;
+    case DatasetLayout::kSun3d: sequence = internal::ReadSun3d(path, options); break;
+    case DatasetLayout::kConf: {
+      const fs::path conf_path = fs::is_directory(path) ? ConfFilesIn(path)[0] : path;
+      ConfFile conf = ReadConf(conf_path, options.assumed_fps);
+      sequence = std::move(conf.sequence);
+      // The scan poses of a .conf are a trajectory, usually an estimate; they serve as
+      // ground truth only when nothing better exists, which is how the authors use them.
+      conf.trajectory.has_timestamps = true;
+      for (size_t i = 0; i < conf.trajectory.size(); ++i) {
+        conf.trajectory.timestamps[i] = sequence.frames[i].timestamp;
+      }
+      sequence.ground_truth = std::move(conf.trajectory);
+      sequence.ground_truth_source = conf_path;
+      break;
+    }
+  }
+  sequence.root = path;
+  sequence.layout = layout;
+  if (!options.intrinsics.empty()) {
+    sequence.intrinsics = ParseIntrinsics(options.intrinsics, "--intrinsics");
+    sequence.intrinsics_source = "--intrinsics " + options.intrinsics;
+  }
+  if (sequence.frames.empty()) ThrowInputError(path, "dataset holds no frame");
+  SelectFrames(path, options, &sequence);
+  if (options.check_files) CheckFilesExist(sequence);
+  return sequence;
+}
+
+}  // namespace f2c

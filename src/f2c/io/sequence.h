@@ -1,0 +1,72 @@
+#pragma once
+// One RGB-D sequence, whatever layout it came in: frames (time stamp, colour and depth
+// paths), depth intrinsics, how depth values map to metres, and optional ground truth.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "f2c/geometry/intrinsics.h"
+#include "f2c/io/trajectory.h"
+
+namespace f2c {
+
+enum class DatasetLayout { kTum, kSevenScenes, kRedwood, kSun3d, kConf };
+std::string LayoutName(DatasetLayout layout);
+
+// How the 16-bit values of a depth PNG are stored.
+enum class DepthEncoding {
+  kPlain,            // value * depth_scale metres
+  kSun3dBitRotated,  // SUN3D: depth_mm = (v >> 3) | (v << 13) in 16 bits
+};
+
+struct RgbdFrame {
+  double timestamp = 0;  // seconds
+  std::filesystem::path color_path;
+  std::filesystem::path depth_path;
+  std::string name;      // short name for logs and .conf files (the depth file's name)
+};
+
+struct RgbdSequence {
+  std::filesystem::path root;
+  DatasetLayout layout = DatasetLayout::kTum;
+  std::vector<RgbdFrame> frames;
+  std::optional<CameraIntrinsics> intrinsics;  // TUM folders carry none
+  std::string intrinsics_source;               // file or option it came from
+  double depth_scale = 0.001;                  // metres per unit (after decoding)
+  std::vector<uint16_t> invalid_depth_values{0};
+  DepthEncoding depth_encoding = DepthEncoding::kPlain;
+  std::optional<Trajectory> ground_truth;      // camera-to-world
+  std::filesystem::path ground_truth_source;
+};
+
+struct IoOptions {
+  // "fx,fy,cx,cy" or a preset name (see IntrinsicsPresetNames()); empty: the dataset's own.
+  std::string intrinsics;
+  // Frame selection, applied after reading: frames first..last (inclusive, 0-based; -1 = to
+  // the end) of the associated sequence, then every N-th of those.
+  int every = 1;
+  int first = 0;
+  int last = -1;
+  // TUM colour/depth association: nearest time stamp within this (seconds), the TUM tools'
+  // rule.
+  double max_time_difference = 0.02;
+  // Frame rate assumed for layouts without time stamps (7-Scenes, Redwood, SUN3D):
+  // timestamp = frame_number / assumed_fps.
+  double assumed_fps = 30.0;
+  // Check every listed image exists when reading (cheap; catches missing frames up front).
+  bool check_files = true;
+
+  void Check() const;  // InputError naming the option when out of range
+};
+
+// Detects the layout of `path` (a folder, or an authors' .conf file) and reads it. Raises
+// InputError with one line naming the file and what is wrong.
+RgbdSequence ReadSequence(const std::filesystem::path& path, const IoOptions& options = {});
+
+// The layout of `path`, or InputError("<path>: unknown dataset layout ...").
+DatasetLayout DetectLayout(const std::filesystem::path& path);
+
+}  // namespace f2c

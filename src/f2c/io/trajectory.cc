@@ -1,0 +1,100 @@
+#include "f2c/io/trajectory.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+
+#include "f2c/io/conf.h"
+#include "f2c/util/error.h"
+#include "f2c/util/file.h"
+#include "f2c/util/text.h"
+
+namespace f2c {
+
+Trajectory ReadTumTrajectory(const std::filesystem::path& path) {
+  Trajectory trajectory;
+  for (const TextLine& line : ReadDataLines(path)) {
+    const auto tokens = SplitWhitespace(line.text);
+    if (tokens.size() != 8) {
+      ThrowInputError(path, line.number,
+                      fmt::format("expected 'timestamp tx ty tz qx qy qz qw', got {} fields",
+                                  tokens.size()));
+    }
+    const auto v = ParseDoublesOrThrow(tokens, 0, path, line.number,
+                                       "'timestamp tx ty tz qx qy qz qw'");
+    const Rigid3d pose = RigidFromQuaternionOrThrow({v[1], v[2], v[3]}, {v[4], v[5], v[6], v[7]},
+                                                    path, line.number);
+    if (!trajectory.empty() && v[0] <= trajectory.timestamps.back()) {
+      ThrowInputError(path, line.number, "time stamps are not increasing");
+    }
+    trajectory.Add(v[0], pose);
+  }
+  if (trajectory.empty()) ThrowInputError(path, "trajectory holds no pose");
+  return trajectory;
+}
+
+void WriteTumTrajectory(const std::filesystem::path& path, const Trajectory& trajectory) {
+  std::string out = "# timestamp tx ty tz qx qy qz qw (camera-to-world), written by fine2coarse\n";
+  for (size_t i = 0; i < trajectory.size(); ++i) {
+    const Rigid3d& pose = trajectory.world_from_camera[i];
+    const Eigen::Quaterniond q(pose.linear());
+    const Eigen::Vector3d t = pose.translation();
+    out += fmt::format("{:.6f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f}\n",
+                       trajectory.timestamps[i], t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
+  }
+  WriteFileAtomic(path, out);
+}
+
+Trajectory ReadLogTrajectory(const std::filesystem::path& path) {
+  const auto lines = ReadDataLines(path);
+  if (lines.empty()) ThrowInputError(path, "trajectory holds no pose");
+  if (lines.size() % 5 != 0) {
+    ThrowInputError(path, fmt::format("expected blocks of 5 lines ('i j n' and a 4x4 matrix), "
+                                      "got {} lines",
+                                      lines.size()));
+  }
+  Trajectory trajectory;
+  trajectory.has_timestamps = false;
+  for (size_t b = 0; b < lines.size(); b += 5) {
+    const auto header = SplitWhitespace(lines[b].text);
+    long id = 0, j = 0, n = 0;
+    if (header.size() != 3 || !ParseInt(header[0], &id) || !ParseInt(header[1], &j) ||
+        !ParseInt(header[2], &n)) {
+      ThrowInputError(path, lines[b].number, "expected a block header 'i j n' of three integers");
+    }
+    Eigen::Matrix4d m;
+    for (int r = 0; r < 4; ++r) {
+      const TextLine& row = lines[b + 1 + r];
+      const auto tokens = SplitWhitespace(row.text);
+      if (tokens.size() != 4) {
+        ThrowInputError(path, row.number,
+                        fmt::format("expected a matrix row of 4 numbers, got {} fields", tokens.size()));
+      }
+      const auto v = ParseDoublesOrThrow(tokens, 0, path, row.number, "a matrix row of 4 numbers");
+      m.row(r) << v[0], v[1], v[2], v[3];
+    }
+    trajectory.Add(static_cast<double>(id), RigidFromMatrixOrThrow(m, path, lines[b + 1].number));
+  }
+  return trajectory;
+}
+
+void WriteLogTrajectory(const std::filesystem::path& path, const Trajectory& trajectory) {
+  std::string out;
+  for (size_t i = 0; i < trajectory.size(); ++i) {
+    out += fmt::format("{} {} {}\n", i, i, i + 1);
+    const Eigen::Matrix4d m = trajectory.world_from_camera[i].matrix();
+    for (int r = 0; r < 4; ++r) {
+      out += fmt::format("{:.12g} {:.12g} {:.12g} {:.12g}\n", m(r, 0), m(r, 1), m(r, 2), m(r, 3));
+    }
+  }
+  WriteFileAtomic(path, out);
+}
+
+Trajectory ReadTrajectoryFile(const std::filesystem::path& path) {
+  const std::string ext = path.extension().string();
+  if (ext == ".log") return ReadLogTrajectory(path);
+  if (ext == ".conf") return ReadConf(path).trajectory;
+  return ReadTumTrajectory(path);
+}
+
+}  // namespace f2c

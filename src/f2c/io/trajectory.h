@@ -1,0 +1,41 @@
+#pragma once
+// Camera trajectories and their files: TUM (`timestamp tx ty tz qx qy qz qw`) and the
+// Redwood/Open3D `.log` (a line `i j n`, then a row-major 4x4 camera-to-world).
+
+#include <filesystem>
+#include <vector>
+
+#include "f2c/geometry/rigid.h"
+
+namespace f2c {
+
+struct Trajectory {
+  // Seconds. Layouts without time stamps use frame_number / assumed fps; files without any
+  // (.log) hold frame ids here and set has_timestamps = false.
+  std::vector<double> timestamps;
+  std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> world_from_camera;
+  bool has_timestamps = true;
+
+  size_t size() const { return timestamps.size(); }
+  bool empty() const { return timestamps.empty(); }
+  void Add(double timestamp, const Rigid3d& pose) {
+    timestamps.push_back(timestamp);
+    world_from_camera.push_back(pose);
+  }
+};
+
+// Reads a TUM trajectory. Lines: `timestamp tx ty tz qx qy qz qw`; '#' comments. Poses are
+// checked (finite, unit quaternion); InputError at file:line otherwise, or if it is empty.
+Trajectory ReadTumTrajectory(const std::filesystem::path& path);
+void WriteTumTrajectory(const std::filesystem::path& path, const Trajectory& trajectory);
+
+// Reads a Redwood/Open3D .log: blocks of `id id n` then four rows of the 4x4
+// camera-to-world. The first id becomes the time stamp slot (has_timestamps = false).
+Trajectory ReadLogTrajectory(const std::filesystem::path& path);
+// Writes one block per pose, `i i i+1` as Open3D does.
+void WriteLogTrajectory(const std::filesystem::path& path, const Trajectory& trajectory);
+
+// Reads a trajectory file by its ending: .log, .conf (the authors' format) or TUM text.
+Trajectory ReadTrajectoryFile(const std::filesystem::path& path);
+
+}  // namespace f2c

@@ -1,0 +1,331 @@
+#include "f2c/odometry/odometry.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "f2c/io/image.h"
+#include "f2c/odometry/pair_cache.h"
+#include "f2c/util/error.h"
+#include "f2c/util/file.h"
+#include "f2c/util/progress.h"
+#include "f2c/util/timer.h"
+
+namespace f2c {
+
+std::string MethodName(AlignmentMethod method) {
+  switch (method) {
+    case AlignmentMethod::kSift: return "sift";
+    case AlignmentMethod::kIcp: return "icp";
+    case AlignmentMethod::kMotionPrior: return "motion_prior";
+  }
+  return "?";
+}
+
+void OdometryOptions::Check() const {
+  sift.Check();
+  ransac.Check();
+  icp.Check();
+  if (!(ratio > 0 && ratio <= 1)) ThrowInputError("odometry.ratio", "must be in (0, 1]");
+  if (!(relaxed_ratio >= ratio && relaxed_ratio <= 1)) {
+    ThrowInputError("odometry.relaxed_ratio", "must be in [ratio, 1]");
+  }
+  if (relax_below_matches < 0) ThrowInputError("odometry.relax_below_matches", "must be >= 0");
+  if (min_inliers < 3) ThrowInputError("odometry.min_inliers", "must be >= 3");
+  if (!(fitness_threshold > 0)) ThrowInputError("odometry.fitness_threshold", "must be positive");
+}
+
+namespace {
+
+// Per-thread stage timings, added atomically.
+struct StageClock {
+  std::atomic<double> decode{0}, sift{0}, matching{0}, ransac{0}, icp{0}, fitness{0}, hashing{0};
+};
+
+struct MatchSet {
+  std::vector<Eigen::Vector3d> prev, curr;
+};
+
+MatchSet MatchFeatures(const SiftFeatures& prev, const SiftFeatures& curr, const OdometryOptions& o) {
+  MatchSet set;
+  if (prev.size() < 2 || curr.size() < 2) return set;
+  cv::BFMatcher matcher(cv::NORM_L2);
+  std::vector<std::vector<cv::DMatch>> knn;
+  matcher.knnMatch(curr.descriptors, prev.descriptors, knn, 2);
+  auto collect = [&](double ratio) {
+    MatchSet s;
+    for (const auto& m : knn) {
+      if (m.size() == 2 && m[0].distance < ratio * m[1].distance) {
+        s.curr.push_back(curr.points_in_camera[m[0].queryIdx]);
+        s.prev.push_back(prev.points_in_camera[m[0].trainIdx]);
+      }
+    }
+    return s;
+  };
+  set = collect(o.ratio);
+  if (static_cast<int>(set.prev.size()) < o.relax_below_matches) set = collect(o.relaxed_ratio);
+  return set;
+}
+
+// SIFT + RANSAC. Leaves method = kMotionPrior when there are too few inliers, for the
+// fallback to resolve.
+PairAlignment AlignSift(const SiftFeatures& prev, const SiftFeatures& curr,
+                        const OdometryOptions& options, uint64_t seed, StageClock* clock) {
+  PairAlignment pair;
+  pair.keypoints_prev = static_cast<int>(prev.size());
+  pair.keypoints_curr = static_cast<int>(curr.size());
+  Timer timer;
+  const MatchSet matches = MatchFeatures(prev, curr, options);
+  clock->matching += timer.Seconds();
+  pair.matches = static_cast<int>(matches.prev.size());
+  timer.Restart();
+  const RansacResult ransac = EstimateRigidRansac(matches.curr, matches.prev, options.ransac, seed);
+  clock->ransac += timer.Seconds();
+  pair.inliers = static_cast<int>(ransac.inliers.size());
+  pair.inlier_rmse = ransac.inlier_rmse;
+  if (pair.inliers >= options.min_inliers) {
+    pair.method = AlignmentMethod::kSift;
+    pair.prev_from_curr = ransac.b_from_a;
+  } else {
+    pair.method = AlignmentMethod::kMotionPrior;
+  }
+  return pair;
+}
+
+// Depth-only ICP from the previous motion; if that fails too, the previous motion itself.
+void ApplyFallback(const cv::Mat& depth_prev, const cv::Mat& depth_curr, const CameraIntrinsics& k,
+                   const OdometryOptions& options, const Rigid3d& previous_motion,
+                   StageClock* clock, PairAlignment* pair) {
+  pair->method = AlignmentMethod::kMotionPrior;
+  pair->prev_from_curr = previous_motion;
+  if (!options.icp_fallback) return;
+  Timer timer;
+  Rigid3d icp = previous_motion;
+  if (AlignDepthIcp(depth_curr, depth_prev, k, previous_motion, options.icp, &icp)) {
+    pair->method = AlignmentMethod::kIcp;
+    pair->prev_from_curr = icp;
+  }
+  clock->icp += timer.Seconds();
+}
+
+void ScoreOverlap(const cv::Mat& depth_prev, const cv::Mat& depth_curr, const CameraIntrinsics& k,
+                  const OdometryOptions& options, StageClock* clock, PairAlignment* pair) {
+  Timer timer;
+  const DepthOverlap overlap =
+      MeasureDepthOverlap(depth_curr, depth_prev, k, pair->prev_from_curr, options.fitness_threshold);
+  clock->fitness += timer.Seconds();
+  pair->fitness = overlap.fitness;
+  pair->overlap_rmse = overlap.rmse;
+}
+
+struct FrameData {
+  cv::Mat depth;
+  SiftFeatures sift;
+  bool loaded = false;
+};
+
+void LoadFrame(const RgbdSequence& seq, int index, const OdometryOptions& options, StageClock* clock,
+               FrameData* data) {
+  Timer timer;
+  const RgbdFrame& frame = seq.frames[index];
+  data->depth = LoadDepthMeters(seq, frame);
+  const cv::Mat color = LoadColor(frame, data->depth.size());
+  cv::Mat gray;
+  cv::cvtColor(color, gray, cv::COLOR_BGR2GRAY);
+  clock->decode += timer.Seconds();
+  timer.Restart();
+  data->sift = ExtractSiftWithDepth(gray, data->depth, *seq.intrinsics, options.sift);
+  clock->sift += timer.Seconds();
+  data->loaded = true;
+}
+
+}  // namespace
+
+PairAlignment AlignPair(const cv::Mat& gray_prev, const cv::Mat& depth_prev,
+                        const cv::Mat& gray_curr, const cv::Mat& depth_curr,
+                        const CameraIntrinsics& intrinsics, const OdometryOptions& options,
+                        const Rigid3d& previous_motion, uint64_t seed) {
+  StageClock clock;
+  const SiftFeatures prev = ExtractSiftWithDepth(gray_prev, depth_prev, intrinsics, options.sift);
+  const SiftFeatures curr = ExtractSiftWithDepth(gray_curr, depth_curr, intrinsics, options.sift);
+  PairAlignment pair = AlignSift(prev, curr, options, seed, &clock);
+  if (pair.method != AlignmentMethod::kSift) {
+    ApplyFallback(depth_prev, depth_curr, intrinsics, options, previous_motion, &clock, &pair);
+  }
+  ScoreOverlap(depth_prev, depth_curr, intrinsics, options, &clock, &pair);
+  return pair;
+}
+
+Trajectory ConcatenatePairs(const RgbdSequence& sequence, const std::vector<PairAlignment>& pairs) {
+  F2C_CHECK(pairs.size() + 1 == sequence.frames.size(), "one pair per consecutive frames");
+  Trajectory t0;
+  Rigid3d pose = Rigid3d::Identity();
+  t0.Add(sequence.frames[0].timestamp, pose);
+  for (size_t k = 1; k < sequence.frames.size(); ++k) {
+    pose = pose * pairs[k - 1].prev_from_curr;
+    // Re-orthonormalise: thousands of products drift off SO(3) in the last digits.
+    pose.linear() = Eigen::Quaterniond(pose.linear()).normalized().toRotationMatrix();
+    t0.Add(sequence.frames[k].timestamp, pose);
+  }
+  return t0;
+}
+
+Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& options,
+                          const OdometryRun& run) {
+  options.Check();
+  if (!seq.intrinsics) {
+    ThrowInputError(seq.root, "no intrinsics: pass --intrinsics (a preset: tum-fr1, tum-fr2, "
+                              "tum-fr3, primesense; or fx,fy,cx,cy)");
+  }
+  Timer wall;
+  StageClock clock;
+  Odometry odometry;
+  const int n = static_cast<int>(seq.frames.size());
+  odometry.pairs.resize(std::max(n - 1, 0));
+
+  // Cache look-up: a pair's key covers both frames' bytes, the intrinsics, the depth
+  // decoding and every option, so any change recomputes exactly the pairs it affects.
+  PairCache cache(run.cache_file, CacheContext(seq, ToJson(options).dump()));
+  std::vector<std::string> keys(std::max(n - 1, 0));
+  std::vector<char> have(std::max(n - 1, 0), 0);
+  if (cache.enabled()) {
+    Timer timer;
+    std::vector<uint64_t> frame_hash(n);
+    tbb::parallel_for(0, n, [&](int i) {
+      frame_hash[i] = HashFile(seq.frames[i].depth_path) ^ (HashFile(seq.frames[i].color_path) * 31);
+    });
+    for (int k = 1; k < n; ++k) {
+      keys[k - 1] = cache.Key(frame_hash[k - 1], frame_hash[k]);
+      have[k - 1] = cache.Lookup(keys[k - 1], &odometry.pairs[k - 1]);
+    }
+    clock.hashing += timer.Seconds();
+  }
+  const int cached = static_cast<int>(std::count(have.begin(), have.end(), 1));
+  odometry.timings.pairs_cached = cached;
+  if (cached > 0) spdlog::info("odometry: {} of {} pairs from cache {}", cached, n - 1, run.cache_file.string());
+
+  Progress progress("odometry", n - 1 - cached, run.quiet);
+  std::atomic<int> frames_processed{0};
+  // Chunks of frames: decode + SIFT in parallel, then align the chunk's pairs in parallel.
+  // A chunk shares its first frame with the previous chunk's last.
+  FrameData carry;
+  for (int begin = 0; begin < n - 1; begin += run.chunk_frames) {
+    const int end = std::min(n - 1, begin + run.chunk_frames);  // pairs (k-1, k), k in (begin, end]
+    bool any = false;
+    for (int k = begin + 1; k <= end; ++k) any = any || !have[k - 1];
+    if (!any) {
+      carry = FrameData();
+      continue;
+    }
+    std::vector<FrameData> frames(end - begin + 1);
+    if (carry.loaded) frames[0] = std::move(carry);
+    tbb::parallel_for(0, end - begin + 1, [&](int i) {
+      const int f = begin + i;
+      const bool needed = (f > begin && !have[f - 1]) || (f < end && !have[f]);
+      if (needed && !frames[i].loaded) {
+        LoadFrame(seq, f, options, &clock, &frames[i]);
+        ++frames_processed;
+      }
+    });
+    tbb::parallel_for(begin + 1, end + 1, [&](int k) {
+      if (have[k - 1]) return;
+      odometry.pairs[k - 1] = AlignSift(frames[k - 1 - begin].sift, frames[k - begin].sift,
+                                        options, options.seed + k, &clock);
+      odometry.pairs[k - 1].frame = k;
+    });
+    // Fallbacks in frame order, so each starts from the final previous motion.
+    for (int k = begin + 1; k <= end; ++k) {
+      PairAlignment& pair = odometry.pairs[k - 1];
+      if (have[k - 1] || pair.method == AlignmentMethod::kSift) continue;
+      const Rigid3d previous = k > 1 ? odometry.pairs[k - 2].prev_from_curr : Rigid3d::Identity();
+      ApplyFallback(frames[k - 1 - begin].depth, frames[k - begin].depth, *seq.intrinsics, options,
+                    previous, &clock, &pair);
+    }
+    tbb::parallel_for(begin + 1, end + 1, [&](int k) {
+      if (have[k - 1]) return;
+      ScoreOverlap(frames[k - 1 - begin].depth, frames[k - begin].depth, *seq.intrinsics, options,
+                   &clock, &odometry.pairs[k - 1]);
+      progress.Advance();
+    });
+    carry = std::move(frames.back());
+    for (int k = begin + 1; k <= end; ++k) {
+      if (!have[k - 1]) cache.Store(keys[k - 1], odometry.pairs[k - 1]);
+    }
+    cache.Save();  // a checkpoint per chunk: an interrupted run resumes here
+  }
+  progress.Finish();
+
+  odometry.t0 = ConcatenatePairs(seq, odometry.pairs);
+  OdometryTimings& t = odometry.timings;
+  t.decode = clock.decode;
+  t.sift = clock.sift;
+  t.matching = clock.matching;
+  t.ransac = clock.ransac;
+  t.icp = clock.icp;
+  t.fitness = clock.fitness;
+  t.hashing = clock.hashing;
+  t.frames_processed = frames_processed;
+  t.pairs_computed = n - 1 - cached;
+  t.wall = wall.Seconds();
+  return odometry;
+}
+
+nlohmann::json ToJson(const OdometryOptions& o) {
+  return {
+      {"sift",
+       {{"max_features", o.sift.max_features},
+        {"octave_layers", o.sift.octave_layers},
+        {"contrast_threshold", o.sift.contrast_threshold},
+        {"edge_threshold", o.sift.edge_threshold},
+        {"sigma", o.sift.sigma},
+        {"min_depth", o.sift.min_depth},
+        {"max_depth", o.sift.max_depth},
+        {"max_depth_spread", o.sift.max_depth_spread}}},
+      {"ratio", o.ratio},
+      {"relaxed_ratio", o.relaxed_ratio},
+      {"relax_below_matches", o.relax_below_matches},
+      {"ransac",
+       {{"inlier_threshold", o.ransac.inlier_threshold},
+        {"max_iterations", o.ransac.max_iterations},
+        {"confidence", o.ransac.confidence},
+        {"refit_rounds", o.ransac.refit_rounds},
+        {"robust_scale", o.ransac.robust_scale},
+        {"robust_iterations", o.ransac.robust_iterations}}},
+      {"min_inliers", o.min_inliers},
+      {"icp_fallback", o.icp_fallback},
+      {"icp",
+       {{"min_depth", o.icp.min_depth},
+        {"max_depth", o.icp.max_depth},
+        {"max_depth_difference", o.icp.max_depth_difference},
+        {"max_points_part", o.icp.max_points_part},
+        {"iterations", o.icp.iterations},
+        {"max_translation", o.icp.max_translation},
+        {"max_rotation_deg", o.icp.max_rotation_deg}}},
+      {"fitness_threshold", o.fitness_threshold},
+      {"seed", o.seed},
+  };
+}
+
+nlohmann::json ToJson(const OdometryTimings& t, int frames) {
+  const double per = frames > 0 ? 1000.0 / frames : 0.0;
+  return {{"wall_s", t.wall},
+          {"frames_processed", t.frames_processed},
+          {"pairs_computed", t.pairs_computed},
+          {"pairs_cached", t.pairs_cached},
+          {"cpu_ms_per_frame",
+           {{"decode", t.decode * per},
+            {"sift", t.sift * per},
+            {"matching", t.matching * per},
+            {"ransac", t.ransac * per},
+            {"icp", t.icp * per},
+            {"fitness", t.fitness * per},
+            {"hashing", t.hashing * per}}}};
+}
+
+}  // namespace f2c

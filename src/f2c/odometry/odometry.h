@@ -1,0 +1,102 @@
+#pragma once
+// Local alignment of consecutive frames and the initial trajectory T0 (paper §4.1,
+// "Aligning Adjacent Images", "Initializing Transformations"):
+//
+//   L[k] = AlignImages(I[k-1], I[k])     SIFT in colour, keypoints with valid depth, RANSAC in 3D
+//   T0[0] = I,  T0[k] = T0[k-1] * L[k]   (L[k] = camera k-1 from camera k)
+//
+// Pairs SIFT cannot align (too few inliers: textureless views) fall back to depth-only
+// point-to-plane ICP from the previous motion; each pair records how it was aligned and how
+// well, because the refinement weights the local-alignment term E_L by it.
+
+#include <filesystem>
+#include <nlohmann/json_fwd.hpp>
+#include <vector>
+
+#include "f2c/features/sift.h"
+#include "f2c/io/sequence.h"
+#include "f2c/odometry/depth_alignment.h"
+#include "f2c/odometry/ransac.h"
+
+namespace f2c {
+
+enum class AlignmentMethod {
+  kSift,         // SIFT matches + 3D RANSAC
+  kIcp,          // depth-only ICP fallback
+  kMotionPrior,  // both failed: the previous motion was assumed
+};
+std::string MethodName(AlignmentMethod method);
+
+struct OdometryOptions {
+  SiftOptions sift;
+  // Lowe's ratio test; the authors use 0.55, relaxed to 0.8 when fewer than 50 matches pass.
+  double ratio = 0.55;
+  double relaxed_ratio = 0.8;
+  int relax_below_matches = 50;
+  RansacOptions ransac;
+  // SIFT alignments with fewer RANSAC inliers fall back to ICP.
+  int min_inliers = 12;
+  bool icp_fallback = true;
+  IcpOptions icp;
+  // Depth-overlap threshold (metres) for the per-pair fitness score.
+  double fitness_threshold = 0.05;
+  // Seed of every random choice (RANSAC); pair k uses seed + k, so results do not depend on
+  // thread scheduling.
+  uint64_t seed = 0;
+
+  void Check() const;
+};
+
+struct PairAlignment {
+  int frame = 0;  // k: this pair aligns frame k to frame k-1
+  Rigid3d prev_from_curr = Rigid3d::Identity();
+  AlignmentMethod method = AlignmentMethod::kSift;
+  int keypoints_prev = 0, keypoints_curr = 0;  // SIFT keypoints with valid depth
+  int matches = 0;                             // after the ratio test
+  int inliers = 0;                             // RANSAC inliers
+  double inlier_rmse = 0;                      // metres
+  double fitness = 0;  // fraction of frame k's depth samples within fitness_threshold of frame k-1's
+  double overlap_rmse = 0;  // metres, of those samples
+};
+
+// Seconds summed over work items (CPU time of the stage, all threads), plus wall time.
+struct OdometryTimings {
+  double decode = 0, sift = 0, matching = 0, ransac = 0, icp = 0, fitness = 0, hashing = 0;
+  double wall = 0;
+  int frames_processed = 0;  // frames decoded and described (not all, on a cache hit)
+  int pairs_computed = 0;
+  int pairs_cached = 0;
+};
+
+struct Odometry {
+  std::vector<PairAlignment> pairs;  // pairs[k-1] aligns frame k to k-1
+  Trajectory t0;                     // world_from_camera per frame, T0[0] = identity
+  OdometryTimings timings;
+};
+
+struct OdometryRun {
+  // Pairwise results are kept here and reused when frames, intrinsics and options match.
+  // Empty: no cache.
+  std::filesystem::path cache_file;
+  bool quiet = false;  // no progress output
+  // Frames decoded and described at once; bounds memory on long sequences.
+  int chunk_frames = 64;
+};
+
+// Aligns every consecutive pair of `sequence` (intrinsics required) in parallel.
+Odometry AlignConsecutive(const RgbdSequence& sequence, const OdometryOptions& options,
+                          const OdometryRun& run = {});
+
+// Aligns one pair of frames already decoded (depth in metres); used by AlignConsecutive and
+// tests. `previous_motion` seeds ICP.
+PairAlignment AlignPair(const cv::Mat& gray_prev, const cv::Mat& depth_prev,
+                        const cv::Mat& gray_curr, const cv::Mat& depth_curr,
+                        const CameraIntrinsics& intrinsics, const OdometryOptions& options,
+                        const Rigid3d& previous_motion, uint64_t seed);
+
+Trajectory ConcatenatePairs(const RgbdSequence& sequence, const std::vector<PairAlignment>& pairs);
+
+nlohmann::json ToJson(const OdometryOptions& options);
+nlohmann::json ToJson(const OdometryTimings& timings, int frames);
+
+}  // namespace f2c

@@ -1,0 +1,39 @@
+#pragma once
+// On-disk cache of pairwise alignments (JSON), keyed by a hash of everything a pair's
+// result depends on: both frames' file bytes, intrinsics, depth decoding, options.
+
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <string>
+
+#include "f2c/io/sequence.h"
+
+namespace f2c {
+
+struct PairAlignment;
+
+// What every key of one run shares: intrinsics, depth decoding and the options' JSON.
+std::string CacheContext(const RgbdSequence& sequence, const std::string& options_json);
+
+class PairCache {
+ public:
+  // An empty path disables the cache. A cache file that cannot be parsed, or of another
+  // version, is ignored with a warning (it is only a cache) and rewritten on Save().
+  PairCache(std::filesystem::path path, std::string context);
+
+  bool enabled() const { return !path_.empty(); }
+  std::string Key(uint64_t prev_frame_hash, uint64_t curr_frame_hash) const;
+  bool Lookup(const std::string& key, PairAlignment* pair) const;
+  void Store(const std::string& key, const PairAlignment& pair);
+  // Writes the file atomically (no-op when disabled or unchanged).
+  void Save();
+
+ private:
+  std::filesystem::path path_;
+  uint64_t context_hash_ = 0;
+  std::map<std::string, std::string> entries_;  // key -> serialised PairAlignment (JSON)
+  bool dirty_ = false;
+};
+
+}  // namespace f2c

@@ -1,0 +1,156 @@
+#include "f2c/odometry/ransac.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <cmath>
+#include <random>
+
+#include "f2c/util/error.h"
+
+namespace f2c {
+
+void RansacOptions::Check() const {
+  if (!(inlier_threshold > 0)) ThrowInputError("ransac.inlier_threshold", "must be positive");
+  if (max_iterations < 1) ThrowInputError("ransac.max_iterations", "must be >= 1");
+  if (!(confidence > 0 && confidence < 1)) ThrowInputError("ransac.confidence", "must be in (0, 1)");
+  if (refit_rounds < 0) ThrowInputError("ransac.refit_rounds", "must be >= 0");
+  if (!(robust_scale >= 0)) ThrowInputError("ransac.robust_scale", "must be >= 0");
+  if (robust_iterations < 0) ThrowInputError("ransac.robust_iterations", "must be >= 0");
+}
+
+Rigid3d FitRigid(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                 const std::vector<int>& indices) {
+  const int n = indices.empty() ? static_cast<int>(a.size()) : static_cast<int>(indices.size());
+  Eigen::Matrix3Xd src(3, n), dst(3, n);
+  for (int i = 0; i < n; ++i) {
+    const int k = indices.empty() ? i : indices[i];
+    src.col(i) = a[k];
+    dst.col(i) = b[k];
+  }
+  Rigid3d t = Rigid3d::Identity();
+  t.matrix() = Eigen::umeyama(src, dst, false);
+  return t;
+}
+
+Rigid3d FitRigidWeighted(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                         const std::vector<int>& indices, const std::vector<double>& weights) {
+  F2C_CHECK(indices.size() == weights.size(), "one weight per point");
+  double total = 0;
+  Eigen::Vector3d mean_a = Eigen::Vector3d::Zero(), mean_b = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < indices.size(); ++i) {
+    total += weights[i];
+    mean_a += weights[i] * a[indices[i]];
+    mean_b += weights[i] * b[indices[i]];
+  }
+  mean_a /= total;
+  mean_b /= total;
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();  // sum w (b - mb)(a - ma)^T
+  for (size_t i = 0; i < indices.size(); ++i) {
+    cov += weights[i] * (b[indices[i]] - mean_b) * (a[indices[i]] - mean_a).transpose();
+  }
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(cov, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+  if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0) d(2, 2) = -1;
+  Rigid3d t = Rigid3d::Identity();
+  t.linear() = svd.matrixU() * d * svd.matrixV().transpose();
+  t.translation() = mean_b - t.linear() * mean_a;
+  return t;
+}
+
+namespace {
+
+// A sample defines a transform only if its points are spread (not nearly coincident or
+// collinear) and rigid (pairwise distances agree on both sides, up to the noise allowed).
+bool GoodSample(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                const int s[3], double threshold) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = i + 1; j < 3; ++j) {
+      const double da = (a[s[i]] - a[s[j]]).norm(), db = (b[s[i]] - b[s[j]]).norm();
+      if (da < 2 * threshold || std::abs(da - db) > 2 * threshold) return false;
+    }
+  }
+  const double area = (a[s[1]] - a[s[0]]).cross(a[s[2]] - a[s[0]]).norm();
+  return area > threshold * threshold;
+}
+
+std::vector<int> Inliers(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                         const Rigid3d& t, double threshold, double* rmse) {
+  std::vector<int> inliers;
+  double sum = 0;
+  const double t2 = threshold * threshold;
+  for (int i = 0; i < static_cast<int>(a.size()); ++i) {
+    const double e2 = (t * a[i] - b[i]).squaredNorm();
+    if (e2 < t2) {
+      inliers.push_back(i);
+      sum += e2;
+    }
+  }
+  if (rmse) *rmse = inliers.empty() ? 0.0 : std::sqrt(sum / inliers.size());
+  return inliers;
+}
+
+}  // namespace
+
+RansacResult EstimateRigidRansac(const std::vector<Eigen::Vector3d>& a,
+                                 const std::vector<Eigen::Vector3d>& b, const RansacOptions& options,
+                                 uint64_t seed) {
+  F2C_CHECK(a.size() == b.size(), "matched point sets");
+  RansacResult result;
+  const int n = static_cast<int>(a.size());
+  if (n < 3) return result;
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<int> pick(0, n - 1);
+  size_t best = 0;
+  int needed = options.max_iterations;
+  for (int it = 0; it < needed; ++it) {
+    ++result.iterations;
+    int s[3] = {pick(rng), pick(rng), pick(rng)};
+    if (s[0] == s[1] || s[0] == s[2] || s[1] == s[2]) continue;
+    if (!GoodSample(a, b, s, options.inlier_threshold)) continue;
+    const Rigid3d t = FitRigid(a, b, {s[0], s[1], s[2]});
+    std::vector<int> inliers = Inliers(a, b, t, options.inlier_threshold, nullptr);
+    if (inliers.size() > best) {
+      best = inliers.size();
+      result.b_from_a = t;
+      result.inliers = std::move(inliers);
+      // Iterations for `confidence` of one all-inlier sample, at the best ratio so far.
+      const double w = static_cast<double>(best) / n;
+      const double p_fail = 1.0 - w * w * w;
+      if (p_fail <= 0) {
+        needed = it + 1;
+      } else {
+        const double k = std::log(1.0 - options.confidence) / std::log(p_fail);
+        needed = std::min<double>(options.max_iterations, std::ceil(k));
+      }
+    }
+  }
+  if (result.inliers.size() < 3) {
+    result.inliers.clear();
+    result.b_from_a = Rigid3d::Identity();
+    return result;
+  }
+  for (int round = 0; round < options.refit_rounds; ++round) {
+    const Rigid3d t = FitRigid(a, b, result.inliers);
+    std::vector<int> inliers = Inliers(a, b, t, options.inlier_threshold, nullptr);
+    if (inliers.size() < result.inliers.size()) break;  // the refit made it worse: keep the last
+    result.b_from_a = t;
+    const bool same = inliers == result.inliers;
+    result.inliers = std::move(inliers);
+    if (same) break;
+  }
+  if (options.robust_scale > 0) {
+    std::vector<double> weights(result.inliers.size());
+    const double c2 = options.robust_scale * options.robust_scale;
+    for (int it = 0; it < options.robust_iterations; ++it) {
+      for (size_t i = 0; i < result.inliers.size(); ++i) {
+        const int k = result.inliers[i];
+        weights[i] = 1.0 / (1.0 + (result.b_from_a * a[k] - b[k]).squaredNorm() / c2);
+      }
+      result.b_from_a = FitRigidWeighted(a, b, result.inliers, weights);
+    }
+  }
+  Inliers(a, b, result.b_from_a, options.inlier_threshold, &result.inlier_rmse);
+  return result;
+}
+
+}  // namespace f2c

@@ -1,0 +1,34 @@
+#pragma once
+// A box-shaped room with solid boxes in it, ray cast exactly: depth (CV_32F metres) and a
+// blocky procedural texture SIFT can match. Tests build scenes with known answers from it.
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "f2c/geometry/intrinsics.h"
+#include "f2c/geometry/rigid.h"
+
+namespace f2c::testing {
+
+struct Box {
+  Eigen::Vector3d min, max;
+};
+
+struct SyntheticScene {
+  Box room{{-2.5, -1.5, -2.5}, {2.5, 1.5, 2.5}};  // the camera stays inside it
+  std::vector<Box> solids{{{-0.6, 0.7, 1.0}, {0.4, 1.5, 1.8}}, {{0.8, -0.2, 1.6}, {1.6, 1.5, 2.2}}};
+  bool textured = true;
+};
+
+struct RenderedFrame {
+  cv::Mat color;  // CV_8UC3
+  cv::Mat depth;  // CV_32F metres, 0 where nothing is hit
+};
+
+RenderedFrame Render(const SyntheticScene& scene, const CameraIntrinsics& intrinsics,
+                     const Rigid3d& world_from_camera);
+
+// Intrinsics of a 640x480 PrimeSense-like camera.
+inline CameraIntrinsics TestIntrinsics() { return {525.0, 525.0, 319.5, 239.5, 640, 480}; }
+
+}  // namespace f2c::testing

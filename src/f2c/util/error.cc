@@ -1,0 +1,19 @@
+#include "f2c/util/error.h"
+
+#include <fmt/format.h>
+
+namespace f2c {
+
+void ThrowInputError(const std::filesystem::path& path, const std::string& what) {
+  throw InputError(fmt::format("{}: {}", path.string(), what));
+}
+
+void ThrowInputError(const std::filesystem::path& path, int line, const std::string& what) {
+  throw InputError(fmt::format("{}:{}: {}", path.string(), line, what));
+}
+
+void CheckFailed(const char* file, int line, const char* condition, const std::string& message) {
+  throw std::logic_error(fmt::format("{}:{}: check '{}' failed: {}", file, line, condition, message));
+}
+
+}  // namespace f2c

@@ -1,0 +1,81 @@
+#include "f2c/util/file.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "f2c/util/error.h"
+
+namespace f2c {
+namespace fs = std::filesystem;
+
+std::string ReadFileToString(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    if (!fs::exists(path)) ThrowInputError(path, "no such file");
+    ThrowInputError(path, "cannot open for reading");
+  }
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  if (in.bad()) ThrowInputError(path, "read error");
+  return buffer.str();
+}
+
+void WriteFileAtomic(const fs::path& path, std::string_view content) {
+  static std::atomic<int> counter{0};
+  const fs::path tmp =
+      path.string() + fmt::format(".tmp.{}.{}", static_cast<long>(getpid()), counter++);
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) ThrowInputError(path, fmt::format("cannot write ({})", std::strerror(errno)));
+    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+    out.flush();
+    if (!out) {
+      std::error_code ignored;
+      fs::remove(tmp, ignored);
+      ThrowInputError(path, "write failed (disk full?)");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    ThrowInputError(path, "cannot rename temporary file into place: " + ec.message());
+  }
+}
+
+void EnsureWritableDirectory(const fs::path& dir) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
+    ThrowInputError(dir, "exists and is not a folder");
+  }
+  fs::create_directories(dir, ec);
+  if (ec) ThrowInputError(dir, "cannot create output folder: " + ec.message());
+  const fs::path probe = dir / fmt::format(".f2c-write-probe.{}", static_cast<long>(getpid()));
+  {
+    std::ofstream out(probe);
+    if (!out) ThrowInputError(dir, "output folder is not writable");
+  }
+  fs::remove(probe, ec);
+}
+
+uint64_t Fnv1a64(std::string_view bytes, uint64_t seed) {
+  uint64_t hash = seed;
+  for (unsigned char c : bytes) {
+    hash ^= c;
+    hash *= 0x100000001b3ULL;
+  }
+  return hash;
+}
+
+uint64_t HashFile(const fs::path& path) { return Fnv1a64(ReadFileToString(path)); }
+
+std::string HexString(uint64_t value) { return fmt::format("{:016x}", value); }
+
+}  // namespace f2c

@@ -1,0 +1,30 @@
+#pragma once
+// File helpers: whole-file reads, atomic writes (never a half-written output), content
+// hashes for caches.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace f2c {
+
+// Reads a whole file; InputError naming the file when it cannot be read.
+std::string ReadFileToString(const std::filesystem::path& path);
+
+// Writes `content` to a temporary file beside `path` and renames it into place, so a
+// reader (or a crash) never sees a partial file. InputError naming the path on failure.
+void WriteFileAtomic(const std::filesystem::path& path, std::string_view content);
+
+// Creates `dir` (and parents) and checks that a file can be created in it; InputError
+// naming the folder otherwise.
+void EnsureWritableDirectory(const std::filesystem::path& dir);
+
+// 64-bit FNV-1a: stable across runs, platforms and compilers (unlike std::hash), which is
+// what a cache key on disk needs.
+uint64_t Fnv1a64(std::string_view bytes, uint64_t seed = 0xcbf29ce484222325ULL);
+// Hash of a file's bytes; InputError if it cannot be read.
+uint64_t HashFile(const std::filesystem::path& path);
+std::string HexString(uint64_t value);
+
+}  // namespace f2c

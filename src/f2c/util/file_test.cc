@@ -1,0 +1,82 @@
+#include "f2c/util/file.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "f2c/util/error.h"
+
+namespace f2c {
+namespace {
+namespace fs = std::filesystem;
+
+fs::path TempDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("f2c_file_test_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+TEST(WriteFileAtomic, WritesContentAndLeavesNoTemporaryFile) {
+  const fs::path dir = TempDir("atomic");
+  WriteFileAtomic(dir / "a.txt", "hello\n");
+  EXPECT_EQ(ReadFileToString(dir / "a.txt"), "hello\n");
+  int files = 0;
+  for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir)) ++files;
+  EXPECT_EQ(files, 1);
+}
+
+TEST(WriteFileAtomic, FailureKeepsThePreviousFileWhole) {
+  const fs::path dir = TempDir("atomic_fail");
+  WriteFileAtomic(dir / "a.txt", "old");
+  fs::permissions(dir, fs::perms::owner_read | fs::perms::owner_exec);
+  if (getuid() == 0) {
+    fs::permissions(dir, fs::perms::owner_all);
+    GTEST_SKIP() << "running as root: permissions do not stop writes";
+  }
+  EXPECT_THROW(WriteFileAtomic(dir / "a.txt", "new"), InputError);
+  fs::permissions(dir, fs::perms::owner_all);
+  EXPECT_EQ(ReadFileToString(dir / "a.txt"), "old");
+}
+
+TEST(WriteFileAtomic, MissingFolderNamesThePath) {
+  const fs::path path = TempDir("missing") / "no" / "such" / "a.txt";
+  try {
+    WriteFileAtomic(path, "x");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(path.string() + ": cannot write", 0), 0u) << e.what();
+  }
+}
+
+TEST(ReadFileToString, MissingFileMessage) {
+  const fs::path path = TempDir("read") / "absent.txt";
+  try {
+    ReadFileToString(path);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path.string() + ": no such file");
+  }
+}
+
+TEST(EnsureWritableDirectory, RejectsAFileInPlaceOfAFolder) {
+  const fs::path dir = TempDir("ensure");
+  WriteFileAtomic(dir / "f", "x");
+  try {
+    EnsureWritableDirectory(dir / "f");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), (dir / "f").string() + ": exists and is not a folder");
+  }
+}
+
+TEST(Fnv1a64, KnownVectors) {
+  // Reference values of the 64-bit FNV-1a specification.
+  EXPECT_EQ(Fnv1a64(""), 0xcbf29ce484222325ULL);
+  EXPECT_EQ(Fnv1a64("a"), 0xaf63dc4c8601ec8cULL);
+  EXPECT_EQ(Fnv1a64("foobar"), 0x85944171f73967e8ULL);
+}
+
+}  // namespace
+}  // namespace f2c
