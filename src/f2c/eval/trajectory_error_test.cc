@@ -1,1 +1,117 @@
+#include "f2c/eval/trajectory_error.h"
+
 #include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "f2c/util/error.h"
+
+namespace f2c {
+namespace {
+
+Rigid3d At(double x, double y, double z, double yaw = 0) {
+  Rigid3d t = Rigid3d::Identity();
+  t.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  t.translation() = Eigen::Vector3d(x, y, z);
+  return t;
+}
+
+TEST(ComputeStatistics, HandComputed) {
+  // errors 1, 2, 3, 4: mean 2.5, rmse sqrt(30/4), median 2.5, population std sqrt(1.25).
+  const ErrorStatistics s = ComputeStatistics({4, 1, 3, 2});
+  EXPECT_DOUBLE_EQ(s.mean, 2.5);
+  EXPECT_DOUBLE_EQ(s.rmse, std::sqrt(7.5));
+  EXPECT_DOUBLE_EQ(s.median, 2.5);
+  EXPECT_DOUBLE_EQ(s.std, std::sqrt(1.25));
+  EXPECT_DOUBLE_EQ(s.min, 1);
+  EXPECT_DOUBLE_EQ(s.max, 4);
+}
+
+// Ground truth at (+-1,0,0), (0,+-1,0); the estimate moves the x points out by 0.1 each. The
+// cross-covariance is symmetric positive, so the best alignment is the identity and the
+// errors are 0.1, 0.1, 0, 0: rmse sqrt(0.02/4), mean 0.05, median 0.05, std 0.05. Moving the
+// whole estimate rigidly must not change any of it.
+TEST(ComputeAte, HandComputedAndInvariantToARigidMotionOfTheEstimate) {
+  Trajectory gt, est;
+  const double xs[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  const double dx[4] = {0.1, -0.1, 0, 0};
+  Rigid3d motion = At(5, -2, 3, 1.2);
+  for (int i = 0; i < 4; ++i) {
+    gt.Add(i, At(xs[i][0], xs[i][1], 0));
+    est.Add(i + 0.005, motion * At(xs[i][0] + dx[i], xs[i][1], 0));
+  }
+  const AteResult ate = ComputeAte(est, gt);
+  EXPECT_EQ(ate.translation.count, 4);
+  EXPECT_NEAR(ate.translation.rmse, std::sqrt(0.02 / 4), 1e-9);
+  EXPECT_NEAR(ate.translation.mean, 0.05, 1e-9);
+  EXPECT_NEAR(ate.translation.median, 0.05, 1e-9);
+  EXPECT_NEAR(ate.translation.std, 0.05, 1e-9);
+  EXPECT_NEAR(ate.translation.max, 0.1, 1e-9);
+  EXPECT_NEAR(ate.translation.min, 0.0, 1e-9);
+}
+
+TEST(ComputeAte, PosesOutsideTheTimeWindowAreNotAssociated) {
+  Trajectory gt, est;
+  for (int i = 0; i < 5; ++i) gt.Add(i, At(i, 0, 0));
+  for (int i = 0; i < 5; ++i) est.Add(i + (i == 4 ? 0.5 : 0.0), At(i, 0, 0));
+  EXPECT_EQ(ComputeAte(est, gt).translation.count, 4);
+}
+
+TEST(ComputeAte, TooFewAssociationsIsAnInputError) {
+  Trajectory gt, est;
+  for (int i = 0; i < 5; ++i) gt.Add(i, At(i, 0, 0));
+  for (int i = 0; i < 5; ++i) est.Add(100 + i, At(i, 0, 0));
+  try {
+    ComputeAte(est, gt);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "estimate: only 0 of 5 poses have a ground-truth pose within 0.02 s; "
+                           "time stamps from another sequence?");
+  }
+}
+
+// Ground truth moves 1 m per second along x; the estimate 1.1 m per second and yaws 10 degrees
+// per second. Each 1-second relative motion then errs by exactly 0.1 m... in the estimate's
+// frame: E = gt_rel^-1 est_rel, gt_rel = (I, (1,0,0)), est_rel = (Rz(10deg), (1.1,0,0)) in
+// the first frame's coordinates when the start yaw is 0; translation of E = (0.1, 0, 0).
+TEST(ComputeRpe, PerSecondHandComputed) {
+  Trajectory gt, est;
+  for (int i = 0; i <= 4; ++i) {
+    gt.Add(i, At(i, 0, 0));
+    est.Add(i, At(1.1 * i, 0, 0));
+  }
+  const RpeResult rpe = ComputeRpe(est, gt, 1.0, true);
+  // Pairs (0,1), (1,2), (2,3); (3,4) ends at the last pose and is dropped as in evaluate_rpe.py.
+  EXPECT_EQ(rpe.translation.count, 3);
+  EXPECT_NEAR(rpe.translation.rmse, 0.1, 1e-9);
+  EXPECT_NEAR(rpe.rotation.max, 0.0, 1e-9);
+
+  Trajectory rotating;
+  for (int i = 0; i <= 4; ++i) rotating.Add(i, At(i, 0, 0, i * 10.0 * M_PI / 180.0));
+  const RpeResult rot = ComputeRpe(rotating, gt, 1.0, true);
+  EXPECT_NEAR(rot.rotation.mean, 10.0, 1e-9);
+  EXPECT_NEAR(rot.rotation.min, 10.0, 1e-9);
+}
+
+TEST(ComputeRpe, PerFrameUsesFrameSteps) {
+  Trajectory gt, est;
+  for (int i = 0; i < 10; ++i) {
+    gt.Add(i * 0.1, At(i * 0.1, 0, 0));
+    est.Add(i * 0.1, At(i * 0.12, 0, 0));
+  }
+  const RpeResult rpe = ComputeRpe(est, gt, 2, false);
+  EXPECT_EQ(rpe.translation.count, 7);  // i = 0..6: j = i + 2 < 9
+  EXPECT_NEAR(rpe.translation.mean, 0.04, 1e-9);
+}
+
+TEST(Evaluate, PerfectEstimateHasZeroError) {
+  Trajectory gt;
+  for (int i = 0; i < 50; ++i) gt.Add(i / 30.0, At(std::sin(i * 0.1), i * 0.01, 0.2, i * 0.02));
+  const EvaluationResult r = Evaluate(gt, gt);
+  EXPECT_NEAR(r.ate.translation.rmse, 0, 1e-9);
+  EXPECT_NEAR(r.rpe_per_frame.rotation.max, 0, 1e-6);
+  EXPECT_GT(r.rpe_per_second.translation.count, 0);
+}
+
+}  // namespace
+}  // namespace f2c

@@ -18,8 +18,10 @@ namespace {
 }  // namespace
 
 double RotationAngle(const Eigen::Matrix3d& rotation) {
-  const double c = std::clamp((rotation.trace() - 1.0) / 2.0, -1.0, 1.0);
-  return std::acos(c);
+  // atan2 of sin and cos keeps precision near 0 and pi, where acos(cos) loses half the digits.
+  const Eigen::Vector3d v(rotation(2, 1) - rotation(1, 2), rotation(0, 2) - rotation(2, 0),
+                          rotation(1, 0) - rotation(0, 1));
+  return std::atan2(0.5 * v.norm(), 0.5 * (rotation.trace() - 1.0));
 }
 
 Rigid3d RigidFromMatrixOrThrow(const Eigen::Matrix4d& matrix, const std::filesystem::path& path,

@@ -80,3 +80,45 @@ RenderedFrame Render(const SyntheticScene& scene, const CameraIntrinsics& k,
 }
 
 }  // namespace f2c::testing
+
+#include <fmt/format.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "f2c/util/file.h"
+
+namespace f2c::testing {
+
+Trajectory WriteTumSequence(const std::filesystem::path& dir, const SyntheticScene& scene,
+                            const CameraIntrinsics& k,
+                            const std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>>& poses) {
+  std::filesystem::create_directories(dir / "rgb");
+  std::filesystem::create_directories(dir / "depth");
+  std::string rgb_txt = "# color images\n", depth_txt = "# depth maps\n";
+  Trajectory gt;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const double t = 1000.0 + i / 30.0;
+    const RenderedFrame frame = Render(scene, k, poses[i]);
+    cv::Mat depth16;
+    frame.depth.convertTo(depth16, CV_16U, 5000.0);
+    const std::string name = fmt::format("{:.6f}", t);
+    cv::imwrite((dir / "rgb" / (name + ".png")).string(), frame.color);
+    cv::imwrite((dir / "depth" / (name + ".png")).string(), depth16);
+    rgb_txt += fmt::format("{} rgb/{}.png\n", name, name);
+    depth_txt += fmt::format("{:.6f} depth/{}.png\n", t + 0.001, name);
+    gt.Add(t, poses[i]);
+  }
+  WriteFileAtomic(dir / "rgb.txt", rgb_txt);
+  WriteFileAtomic(dir / "depth.txt", depth_txt);
+  WriteTumTrajectory(dir / "groundtruth.txt", gt);
+  return gt;
+}
+
+std::filesystem::path FreshTempDir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("f2c_test_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+}  // namespace f2c::testing

@@ -32,3 +32,20 @@ RenderedFrame Render(const SyntheticScene& scene, const CameraIntrinsics& intrin
 inline CameraIntrinsics TestIntrinsics() { return {525.0, 525.0, 319.5, 239.5, 640, 480}; }
 
 }  // namespace f2c::testing
+
+#include <filesystem>
+
+#include "f2c/io/trajectory.h"
+
+namespace f2c::testing {
+
+// Renders `world_from_camera` (time stamps 1/30 s apart) and writes a TUM folder: rgb/,
+// depth/ (uint16, metres * 5000), rgb.txt, depth.txt, groundtruth.txt. Returns the poses.
+Trajectory WriteTumSequence(const std::filesystem::path& dir, const SyntheticScene& scene,
+                            const CameraIntrinsics& intrinsics,
+                            const std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>>& world_from_camera);
+
+// A fresh empty temporary folder for a test.
+std::filesystem::path FreshTempDir(const std::string& name);
+
+}  // namespace f2c::testing
