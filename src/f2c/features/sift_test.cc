@@ -1,1 +1,60 @@
+#include "f2c/features/sift.h"
+
 #include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "f2c/testing/synthetic_scene.h"
+
+namespace f2c {
+namespace {
+
+TEST(ExtractSiftWithDepth, PointsLieOnTheRenderedSurface) {
+  const auto k = testing::TestIntrinsics();
+  Rigid3d pose = Rigid3d::Identity();
+  pose.translation() = Eigen::Vector3d(0, 0, -0.5);
+  const auto frame = testing::Render(testing::SyntheticScene(), k, pose);
+  cv::Mat gray;
+  cv::cvtColor(frame.color, gray, cv::COLOR_BGR2GRAY);
+  const SiftFeatures f = ExtractSiftWithDepth(gray, frame.depth, k, SiftOptions());
+  ASSERT_GT(f.size(), 100u);
+  EXPECT_LE(static_cast<int>(f.size()), f.detected);
+  EXPECT_EQ(f.descriptors.rows, static_cast<int>(f.size()));
+  for (size_t i = 0; i < f.size(); ++i) {
+    const Eigen::Vector3d& p = f.points_in_camera[i];
+    const float z = frame.depth.at<float>(std::lround(f.pixels[i].y), std::lround(f.pixels[i].x));
+    EXPECT_NEAR(p.z(), z, 1e-6);
+    const Eigen::Vector2d uv = k.Project(p);
+    EXPECT_NEAR(uv.x(), f.pixels[i].x, 1e-3);
+    EXPECT_NEAR(uv.y(), f.pixels[i].y, 1e-3);
+  }
+}
+
+TEST(ExtractSiftWithDepth, DepthRangeDropsKeypoints) {
+  const auto k = testing::TestIntrinsics();
+  Rigid3d pose = Rigid3d::Identity();
+  pose.translation() = Eigen::Vector3d(0, 0, -0.5);
+  const auto frame = testing::Render(testing::SyntheticScene(), k, pose);
+  cv::Mat gray;
+  cv::cvtColor(frame.color, gray, cv::COLOR_BGR2GRAY);
+  SiftOptions options;
+  options.max_depth = 2.0;
+  const SiftFeatures f = ExtractSiftWithDepth(gray, frame.depth, k, options);
+  for (const auto& p : f.points_in_camera) EXPECT_LE(p.z(), 2.0);
+  options.min_depth = 10.0;
+  options.max_depth = 20.0;
+  EXPECT_EQ(ExtractSiftWithDepth(gray, frame.depth, k, options).size(), 0u);
+}
+
+TEST(ExtractSiftWithDepth, UntexturedViewHasFewKeypoints) {
+  const auto k = testing::TestIntrinsics();
+  testing::SyntheticScene scene;
+  scene.textured = false;
+  const auto frame = testing::Render(scene, k, Rigid3d::Identity());
+  cv::Mat gray;
+  cv::cvtColor(frame.color, gray, cv::COLOR_BGR2GRAY);
+  EXPECT_LT(ExtractSiftWithDepth(gray, frame.depth, k, SiftOptions()).size(), 12u);
+}
+
+}  // namespace
+}  // namespace f2c
