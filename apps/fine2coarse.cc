@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "apps/commands.h"
@@ -27,6 +28,8 @@ void AddFrameSelection(CLI::App* cmd, f2c::IoOptions* io) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Logs go to stderr, so stdout carries only results (tables, JSON).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("fine2coarse"));
   spdlog::set_pattern("[%H:%M:%S] %v");
   CLI::App app{"fine2coarse: fine-to-coarse global registration of RGB-D scans"};
   app.require_subcommand(1);
@@ -92,6 +95,7 @@ int main(int argc, char** argv) {
     app.exit(e);
     return 2;
   }
+  if (reg.quiet) spdlog::set_level(spdlog::level::warn);
   reg.odometry.icp_fallback = !no_icp;
   reg.use_cache = !no_cache;
   try {

@@ -1,0 +1,138 @@
+// Runs the fine2coarse binary as a user would and checks exit codes, messages and outputs.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+
+#include "f2c/io/trajectory.h"
+#include "f2c/testing/synthetic_scene.h"
+#include "f2c/util/file.h"
+
+namespace f2c {
+namespace {
+namespace fs = std::filesystem;
+
+struct Result {
+  int code = -1;
+  std::string output;  // stdout and stderr
+};
+
+Result RunCli(const std::string& args) {
+  const std::string command = std::string(F2C_CLI_PATH) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  Result r;
+  std::array<char, 4096> buffer;
+  size_t n = 0;
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.output.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+fs::path Data(const std::string& name) { return fs::path(F2C_SHARED_DATA_DIR) / name; }
+
+fs::path SyntheticTum(const std::string& name, int n) {
+  const fs::path dir = testing::FreshTempDir(name);
+  std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> poses;
+  for (int i = 0; i < n; ++i) {
+    Rigid3d pose = Rigid3d::Identity();
+    pose.linear() = Eigen::AngleAxisd(0.02 * i, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    pose.translation() = Eigen::Vector3d(0.03 * i, 0, -0.6);
+    poses.push_back(pose);
+  }
+  testing::WriteTumSequence(dir, testing::SyntheticScene(), testing::TestIntrinsics(), poses);
+  return dir;
+}
+
+TEST(Cli, HelpOnEverySubcommand) {
+  for (const char* cmd : {"", "register ", "evaluate ", "info "}) {
+    const Result r = RunCli(std::string(cmd) + "--help");
+    EXPECT_EQ(r.code, 0) << cmd;
+    EXPECT_NE(r.output.find("Usage"), std::string::npos) << r.output;
+  }
+}
+
+TEST(Cli, BadUsageExitsTwo) {
+  EXPECT_EQ(RunCli("").code, 2);
+  EXPECT_EQ(RunCli("frobnicate").code, 2);
+  EXPECT_EQ(RunCli("register /tmp").code, 2);  // -o missing
+  EXPECT_EQ(RunCli("register /tmp -o /tmp/x --every 0").code, 2);
+}
+
+TEST(Cli, MissingInputExitsOneWithOneLine) {
+  const Result r = RunCli("info /no/such/folder");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.output, "error: /no/such/folder: no such file or folder\n");
+}
+
+TEST(Cli, UnwritableOutputFolderFailsBeforeWork) {
+  const fs::path dir = SyntheticTum("cli_unwritable", 2);
+  const fs::path blocker = testing::FreshTempDir("cli_blocker") / "file";
+  WriteFileAtomic(blocker, "x");
+  const Result r = RunCli(dir.string() + " --intrinsics primesense -o " + (blocker / "out").string() + " -q");
+  // register is the subcommand; put it first.
+  const Result r2 = RunCli("register " + dir.string() + " --intrinsics primesense -o " + (blocker / "out").string() + " -q");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r2.code, 1);
+  EXPECT_EQ(r2.output.rfind("error: " + (blocker / "out").string() + ": cannot create output folder", 0), 0u)
+      << r2.output;
+}
+
+TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
+  const fs::path dir = SyntheticTum("cli_register", 5);
+  const fs::path out = testing::FreshTempDir("cli_register_out");
+  const Result r = RunCli("register " + dir.string() + " --intrinsics 525,525,319.5,239.5 -q -o " + out.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* file : {"trajectory.txt", "trajectory.log", "trajectory.conf", "odometry.json", "run.json"}) {
+    EXPECT_TRUE(fs::exists(out / file)) << file;
+  }
+  for (const auto& e : fs::directory_iterator(out)) {
+    EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << "left a temporary file";
+  }
+  const Trajectory t = ReadTumTrajectory(out / "trajectory.txt");
+  ASSERT_EQ(t.size(), 5u);
+  EXPECT_NEAR(t.world_from_camera[4].translation().x(), 0.12, 0.01);  // 4 steps of 3 cm
+  const Result e = RunCli("evaluate --json --estimate " + (out / "trajectory.txt").string() +
+                       " --ground-truth " + dir.string());
+  ASSERT_EQ(e.code, 0) << e.output;
+  EXPECT_NE(e.output.find("\"ate_m\""), std::string::npos);
+  // The .log estimate carries frame ids; with the dataset as ground truth it evaluates too.
+  const Result log = RunCli("evaluate --estimate " + (out / "trajectory.log").string() + " --ground-truth " + dir.string());
+  EXPECT_EQ(log.code, 0) << log.output;
+  EXPECT_NE(log.output.find("5 of 5 poses associated"), std::string::npos) << log.output;
+}
+
+TEST(Cli, CorruptFrameExitsOneNamingTheFile) {
+  const fs::path dir = SyntheticTum("cli_corrupt", 3);
+  const fs::path victim = *fs::directory_iterator(dir / "depth");
+  WriteFileAtomic(victim, "garbage");
+  const fs::path out = testing::FreshTempDir("cli_corrupt_out");
+  const Result r = RunCli("register " + dir.string() + " --intrinsics primesense -q --no-cache -o " + out.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.output, "error: " + victim.string() + ": cannot decode image (corrupt or not an image)\n");
+  EXPECT_FALSE(fs::exists(out / "trajectory.txt"));
+}
+
+TEST(Cli, InfoOnRealData) {
+  if (!fs::exists(Data("7scenes_redkitchen_15hz"))) GTEST_SKIP() << "../shared/data absent";
+  const Result r = RunCli("info " + Data("7scenes_redkitchen_15hz").string());
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.output.find("layout       7scenes"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("frames       500"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("fx 585.000"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("ground truth 500 poses"), std::string::npos) << r.output;
+}
+
+TEST(Cli, EvaluateGroundTruthAgainstItselfIsZero) {
+  if (!fs::exists(Data("tum_fr1_desk_9"))) GTEST_SKIP() << "../shared/data absent";
+  const fs::path gt = Data("tum_fr1_desk_9") / "groundtruth.txt";
+  const Result r = RunCli("evaluate --estimate " + gt.string() + " --ground-truth " + gt.string());
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("ATE                    m       0.0000"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace f2c
