@@ -13,15 +13,6 @@ namespace f2c {
 namespace {
 namespace fs = std::filesystem;
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
-}
-
 struct Fixture {
   fs::path dir;
   RgbdSequence seq;
@@ -56,30 +47,30 @@ TEST(LoadDepthMeters, ScalesAndMarksInvalid) {
 TEST(LoadDepthMeters, EightBitDepthIsAnError) {
   Fixture f = Make("img_8bit");
   cv::imwrite(f.frame.depth_path.string(), cv::Mat(480, 640, CV_8U, cv::Scalar(20)));
-  EXPECT_EQ(ErrorOf([&] { LoadDepthMeters(f.seq, f.frame); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(f.seq, f.frame); }),
             f.frame.depth_path.string() + ": depth image is 8-bit; expected 16-bit");
 }
 
 TEST(LoadDepthMeters, CorruptAndMissingFiles) {
   Fixture f = Make("img_corrupt");
   WriteFileAtomic(f.frame.depth_path, "\x89PNG\r\n\x1a\n this is not really a png");
-  EXPECT_EQ(ErrorOf([&] { LoadDepthMeters(f.seq, f.frame); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(f.seq, f.frame); }),
             f.frame.depth_path.string() + ": cannot decode image (corrupt or not an image)");
   fs::remove(f.frame.depth_path);
-  EXPECT_EQ(ErrorOf([&] { LoadDepthMeters(f.seq, f.frame); }), f.frame.depth_path.string() + ": missing frame image");
+  EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(f.seq, f.frame); }), f.frame.depth_path.string() + ": missing frame image");
 }
 
 TEST(LoadDepthMeters, SizeMustMatchIntrinsics) {
   Fixture f = Make("img_size_k");
   cv::imwrite(f.frame.depth_path.string(), cv::Mat(240, 320, CV_16U, cv::Scalar(2000)));
-  EXPECT_EQ(ErrorOf([&] { LoadDepthMeters(f.seq, f.frame); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(f.seq, f.frame); }),
             f.frame.depth_path.string() + ": depth image is 320x240 but the intrinsics (test) are for 640x480");
 }
 
 TEST(LoadColor, SizeMustMatchDepth) {
   Fixture f = Make("img_size_c");
   cv::imwrite(f.frame.color_path.string(), cv::Mat(240, 320, CV_8UC3, cv::Scalar(0)));
-  EXPECT_EQ(ErrorOf([&] { LoadColor(f.frame, cv::Size(640, 480)); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { LoadColor(f.frame, cv::Size(640, 480)); }),
             f.frame.color_path.string() + ": colour image is 320x240 but its depth image d.png is 640x480");
 }
 

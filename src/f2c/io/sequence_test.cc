@@ -16,15 +16,6 @@ namespace {
 namespace fs = std::filesystem;
 using Poses = std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>>;
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
-}
-
 Poses Line(int n) {
   Poses poses;
   for (int i = 0; i < n; ++i) {
@@ -43,13 +34,13 @@ fs::path TumFolder(const std::string& name, int n) {
 
 TEST(DetectLayout, MissingEmptyAndUnknown) {
   const fs::path root = testing::FreshTempDir("layout");
-  EXPECT_EQ(ErrorOf([&] { ReadSequence(root / "absent"); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(root / "absent"); }),
             (root / "absent").string() + ": no such file or folder");
   fs::create_directories(root / "empty");
-  EXPECT_EQ(ErrorOf([&] { ReadSequence(root / "empty"); }), (root / "empty").string() + ": folder is empty");
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(root / "empty"); }), (root / "empty").string() + ": folder is empty");
   fs::create_directories(root / "other");
   WriteFileAtomic(root / "other" / "notes.txt", "hello");
-  EXPECT_EQ(ErrorOf([&] { ReadSequence(root / "other"); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(root / "other"); }),
             (root / "other").string() +
                 ": unknown dataset layout (expected TUM rgb.txt + depth.txt, 7-Scenes/3DMatch "
                 "frame-*.depth.png, SUN3D image/ + depth/ + intrinsics.txt, Redwood color/ + depth/, "
@@ -81,28 +72,28 @@ TEST(ReadTum, FrameSelection) {
   ASSERT_EQ(seq.frames.size(), 3u);  // frames 1, 3, 5
   EXPECT_NEAR(seq.frames[1].timestamp, 1000.0 + 3 / 30.0, 1e-6);
   io.first = 10;
-  EXPECT_EQ(ErrorOf([&] { ReadSequence(dir, io); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir, io); }),
             dir.string() + ": frame selection --first 10 --last -1 leaves no frame (the sequence has 6)");
 }
 
 TEST(ReadTum, NoDepthWithinTheAssociationWindow) {
   const fs::path dir = TumFolder("tum_far", 2);
   WriteFileAtomic(dir / "depth.txt", "5000.0 depth/x.png\n");
-  EXPECT_EQ(ErrorOf([&] { ReadSequence(dir); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir); }),
             (dir / "depth.txt").string() + ": no depth image within 0.02 s of a colour image in rgb.txt");
 }
 
 TEST(ReadTum, MalformedRgbTxt) {
   const fs::path dir = TumFolder("tum_bad_list", 2);
   WriteFileAtomic(dir / "rgb.txt", "# color\n1000.0 rgb/a.png\n1000.1\n");
-  EXPECT_EQ(ErrorOf([&] { ReadSequence(dir); }), (dir / "rgb.txt").string() + ":3: expected 'timestamp filename'");
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir); }), (dir / "rgb.txt").string() + ":3: expected 'timestamp filename'");
 }
 
 TEST(ReadTum, MissingFrameImage) {
   const fs::path dir = TumFolder("tum_missing", 3);
   const RgbdSequence seq = ReadSequence(dir);
   fs::remove(seq.frames[1].color_path);
-  EXPECT_EQ(ErrorOf([&] { ReadSequence(dir); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir); }),
             seq.frames[1].color_path.string() + ": missing frame image (listed in the dataset)");
 }
 
@@ -112,7 +103,7 @@ TEST(ReadTum, IntrinsicsOption) {
   io.intrinsics = "tum-fr2";
   EXPECT_DOUBLE_EQ(ReadSequence(dir, io).intrinsics->fx, 520.9);
   io.intrinsics = "525,0,320,240";
-  EXPECT_EQ(ErrorOf([&] { ReadSequence(dir, io); }), "--intrinsics: focal length must be positive (fx=525, fy=0)");
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir, io); }), "--intrinsics: focal length must be positive (fx=525, fy=0)");
 }
 
 // A 7-Scenes folder: frame-XXXXXX.{color.png,depth.png,pose.txt} + camera-intrinsics.txt.
@@ -148,17 +139,17 @@ TEST(ReadSevenScenes, FramesPosesIntrinsics) {
 TEST(ReadSevenScenes, NanAndNonRigidPoses) {
   const fs::path dir = SevenScenesFolder("7s_bad_pose", 2);
   WriteFileAtomic(dir / "frame-000002.pose.txt", "1 0 0 nan\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
-  EXPECT_EQ(ErrorOf([&] { ReadSequence(dir); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir); }),
             (dir / "frame-000002.pose.txt").string() + ":1: 'nan' is not a finite number; expected a 4x4 pose matrix");
   WriteFileAtomic(dir / "frame-000002.pose.txt", "1 0 0 0\n0 1 0 0\n0 0 3 0\n0 0 0 1\n");
-  EXPECT_EQ(ErrorOf([&] { ReadSequence(dir); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir); }),
             (dir / "frame-000002.pose.txt").string() + ": pose is not rigid (max |R^T R - I| = 8, det R = 3)");
 }
 
 TEST(ReadSevenScenes, ZeroFocalLength) {
   const fs::path dir = SevenScenesFolder("7s_zero_f", 1);
   WriteFileAtomic(dir / "camera-intrinsics.txt", "0 0 320\n0 0 240\n0 0 1\n");
-  EXPECT_EQ(ErrorOf([&] { ReadSequence(dir); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir); }),
             (dir / "camera-intrinsics.txt").string() + ": focal length must be positive (fx=0, fy=0)");
 }
 
@@ -204,7 +195,7 @@ TEST(ReadRedwood, CountMismatchAndDefaultIntrinsics) {
   EXPECT_DOUBLE_EQ(seq.intrinsics->fx, 525.0);
   EXPECT_FALSE(seq.ground_truth.has_value());
   cv::imwrite((dir / "depth" / "00002.png").string(), depth);
-  EXPECT_EQ(ErrorOf([&] { ReadSequence(dir); }), dir.string() + ": 2 colour images in color but 3 depth images in depth/");
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir); }), dir.string() + ": 2 colour images in color but 3 depth images in depth/");
 }
 
 }  // namespace

@@ -32,15 +32,6 @@ void ExpectSamePoses(const Trajectory& a, const Trajectory& b, double tolerance)
   }
 }
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
-}
-
 TEST(TumTrajectory, RoundTrip) {
   const fs::path path = testing::FreshTempDir("traj_tum") / "t.txt";
   WriteTumTrajectory(path, Example());
@@ -52,15 +43,15 @@ TEST(TumTrajectory, RoundTrip) {
 TEST(TumTrajectory, MalformedLines) {
   const fs::path path = testing::FreshTempDir("traj_tum_bad") / "groundtruth.txt";
   WriteFileAtomic(path, "# header\n1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 1\n");
-  EXPECT_EQ(ErrorOf([&] { ReadTumTrajectory(path); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadTumTrajectory(path); }),
             path.string() + ":3: expected 'timestamp tx ty tz qx qy qz qw', got 7 fields");
   WriteFileAtomic(path, "1.0 0 0 nan 0 0 0 1\n");
-  EXPECT_EQ(ErrorOf([&] { ReadTumTrajectory(path); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadTumTrajectory(path); }),
             path.string() + ":1: 'nan' is not a finite number; expected 'timestamp tx ty tz qx qy qz qw'");
   WriteFileAtomic(path, "1.0 0 0 0 0 0 0.5 0.5\n");
-  EXPECT_EQ(ErrorOf([&] { ReadTumTrajectory(path); }), path.string() + ":1: quaternion is not unit (norm 0.7071)");
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadTumTrajectory(path); }), path.string() + ":1: quaternion is not unit (norm 0.7071)");
   WriteFileAtomic(path, "# nothing\n");
-  EXPECT_EQ(ErrorOf([&] { ReadTumTrajectory(path); }), path.string() + ": trajectory holds no pose");
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadTumTrajectory(path); }), path.string() + ": trajectory holds no pose");
 }
 
 TEST(LogTrajectory, RoundTripKeepsFrameIds) {
@@ -75,16 +66,16 @@ TEST(LogTrajectory, RoundTripKeepsFrameIds) {
 TEST(LogTrajectory, MalformedBlocks) {
   const fs::path path = testing::FreshTempDir("traj_log_bad") / "t.log";
   WriteFileAtomic(path, "0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n");
-  EXPECT_EQ(ErrorOf([&] { ReadLogTrajectory(path); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadLogTrajectory(path); }),
             path.string() + ": expected blocks of 5 lines ('i j n' and a 4x4 matrix), got 4 lines");
   WriteFileAtomic(path, "0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1\n0 0 0 1\n");
-  EXPECT_EQ(ErrorOf([&] { ReadLogTrajectory(path); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadLogTrajectory(path); }),
             path.string() + ":4: expected a matrix row of 4 numbers, got 3 fields");
   WriteFileAtomic(path, "0 x 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
-  EXPECT_EQ(ErrorOf([&] { ReadLogTrajectory(path); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadLogTrajectory(path); }),
             path.string() + ":1: expected a block header 'i j n' of three integers");
   WriteFileAtomic(path, "0 0 1\n2 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
-  EXPECT_EQ(ErrorOf([&] { ReadLogTrajectory(path); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadLogTrajectory(path); }),
             path.string() + ":2: pose is not rigid (max |R^T R - I| = 3, det R = 2)");
 }
 
@@ -115,16 +106,16 @@ TEST(Conf, RoundTripThroughASequence) {
 TEST(Conf, MalformedLines) {
   const fs::path path = testing::FreshTempDir("conf_bad") / "a.conf";
   WriteFileAtomic(path, "dataset tum\nn_image 3\n");
-  EXPECT_EQ(ErrorOf([&] { ReadConf(path); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadConf(path); }),
             path.string() + ":2: unknown key 'n_image' (expected dataset, intrinsics, intrinsics_matrix, "
                             "n_images, depth_directory, image_directory or scan)");
   WriteFileAtomic(path, "dataset tum\nscan a.png b.jpg 1 0 0 0 0 1 0 0 0 0 1 0\n");
-  EXPECT_EQ(ErrorOf([&] { ReadConf(path); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadConf(path); }),
             path.string() + ":2: 'scan' expects '<depth> <colour>' and 16 numbers, got 14 fields");
   WriteFileAtomic(path, "dataset tum\nn_images 2\nscan a.png b.jpg 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n");
-  EXPECT_EQ(ErrorOf([&] { ReadConf(path); }), path.string() + ": n_images says 2 but 1 scan lines follow");
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadConf(path); }), path.string() + ": n_images says 2 but 1 scan lines follow");
   WriteFileAtomic(path, "dataset tum\nintrinsics_matrix 0 0 320 0 500 240 0 0 1\n");
-  EXPECT_EQ(ErrorOf([&] { ReadConf(path); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadConf(path); }),
             path.string() + ":2: focal length must be positive (fx=0, fy=500)");
 }
 

@@ -85,6 +85,7 @@ RenderedFrame Render(const SyntheticScene& scene, const CameraIntrinsics& k,
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "f2c/util/error.h"
 #include "f2c/util/file.h"
 
 namespace f2c::testing {
@@ -112,6 +113,15 @@ Trajectory WriteTumSequence(const std::filesystem::path& dir, const SyntheticSce
   WriteFileAtomic(dir / "depth.txt", depth_txt);
   WriteTumTrajectory(dir / "groundtruth.txt", gt);
   return gt;
+}
+
+std::string InputErrorMessage(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
 }
 
 std::filesystem::path FreshTempDir(const std::string& name) {

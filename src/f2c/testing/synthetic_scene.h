@@ -34,6 +34,8 @@ inline CameraIntrinsics TestIntrinsics() { return {525.0, 525.0, 319.5, 239.5, 6
 }  // namespace f2c::testing
 
 #include <filesystem>
+#include <functional>
+#include <string>
 
 #include "f2c/io/trajectory.h"
 
@@ -44,6 +46,9 @@ namespace f2c::testing {
 Trajectory WriteTumSequence(const std::filesystem::path& dir, const SyntheticScene& scene,
                             const CameraIntrinsics& intrinsics,
                             const std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>>& world_from_camera);
+
+// The message of the InputError `f` raises, or "no error".
+std::string InputErrorMessage(const std::function<void()>& f);
 
 // A fresh empty temporary folder for a test.
 std::filesystem::path FreshTempDir(const std::string& name);
