@@ -47,6 +47,9 @@ int main(int argc, char** argv) {
   reg_cmd->add_option("--seed", od.seed, "seed of all random choices")->capture_default_str();
   reg_cmd->add_option("--min-depth", od.sift.min_depth, "nearest valid depth (m)")->capture_default_str();
   reg_cmd->add_option("--max-depth", od.sift.max_depth, "farthest valid depth (m)")->capture_default_str();
+  reg_cmd->add_option("--sift-downscale", od.sift.downscale,
+                      "detect SIFT on the colour image shrunk by this factor (faster, coarser)")
+      ->capture_default_str();
   reg_cmd->add_option("--ratio", od.ratio, "SIFT ratio test")->capture_default_str();
   reg_cmd->add_option("--relaxed-ratio", od.relaxed_ratio, "ratio used when few matches pass")
       ->capture_default_str();

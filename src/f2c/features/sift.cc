@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "f2c/util/error.h"
 
@@ -16,6 +17,7 @@ void SiftOptions::Check() const {
   if (!(contrast_threshold > 0)) ThrowInputError("sift.contrast_threshold", "must be positive");
   if (!(edge_threshold > 0)) ThrowInputError("sift.edge_threshold", "must be positive");
   if (!(sigma > 0)) ThrowInputError("sift.sigma", "must be positive");
+  if (downscale < 1 || downscale > 8) ThrowInputError("--sift-downscale", fmt::format("must be in 1..8, got {}", downscale));
   if (!(min_depth >= 0 && max_depth > min_depth)) {
     ThrowInputError("depth range", fmt::format("need 0 <= min < max, got {}..{}", min_depth, max_depth));
   }
@@ -30,7 +32,17 @@ SiftFeatures ExtractSiftWithDepth(const cv::Mat& gray, const cv::Mat& depth,
                                options.contrast_threshold, options.edge_threshold, options.sigma);
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;
-  sift->detectAndCompute(gray, cv::noArray(), keypoints, descriptors);
+  if (options.downscale > 1) {
+    cv::Mat small;
+    cv::resize(gray, small, cv::Size(), 1.0 / options.downscale, 1.0 / options.downscale, cv::INTER_AREA);
+    sift->detectAndCompute(small, cv::noArray(), keypoints, descriptors);
+    // Pixel centres: x_full = (x_small + 0.5) * s - 0.5.
+    for (cv::KeyPoint& kp : keypoints) {
+      kp.pt = (kp.pt + cv::Point2f(0.5f, 0.5f)) * static_cast<float>(options.downscale) - cv::Point2f(0.5f, 0.5f);
+    }
+  } else {
+    sift->detectAndCompute(gray, cv::noArray(), keypoints, descriptors);
+  }
 
   SiftFeatures features;
   features.detected = static_cast<int>(keypoints.size());

@@ -284,6 +284,7 @@ nlohmann::json ToJson(const OdometryOptions& o) {
         {"contrast_threshold", o.sift.contrast_threshold},
         {"edge_threshold", o.sift.edge_threshold},
         {"sigma", o.sift.sigma},
+        {"downscale", o.sift.downscale},
         {"min_depth", o.sift.min_depth},
         {"max_depth", o.sift.max_depth},
         {"max_depth_spread", o.sift.max_depth_spread}}},
