@@ -35,20 +35,7 @@ json ToJson(const IoOptions& io) {
 
 json PairsToJson(const std::vector<PairAlignment>& pairs) {
   json out = json::array();
-  for (const PairAlignment& p : pairs) {
-    const Eigen::Quaterniond q(p.prev_from_curr.linear());
-    const Eigen::Vector3d t = p.prev_from_curr.translation();
-    out.push_back({{"frame", p.frame},
-                   {"method", MethodName(p.method)},
-                   {"prev_from_curr", {{"t", {t.x(), t.y(), t.z()}}, {"q_xyzw", {q.x(), q.y(), q.z(), q.w()}}}},
-                   {"keypoints_prev", p.keypoints_prev},
-                   {"keypoints_curr", p.keypoints_curr},
-                   {"matches", p.matches},
-                   {"inliers", p.inliers},
-                   {"inlier_rmse", p.inlier_rmse},
-                   {"fitness", p.fitness},
-                   {"overlap_rmse", p.overlap_rmse}});
-  }
+  for (const PairAlignment& p : pairs) out.push_back(ToJson(p));
   return out;
 }
 

@@ -9,20 +9,36 @@
 namespace f2c {
 namespace {
 
-TEST(ExtractSiftWithDepth, PointsLieOnTheRenderedSurface) {
-  const auto k = testing::TestIntrinsics();
+struct View {
+  cv::Mat gray, depth;
+};
+
+View RenderView() {
   Rigid3d pose = Rigid3d::Identity();
   pose.translation() = Eigen::Vector3d(0, 0, -0.5);
-  const auto frame = testing::Render(testing::SyntheticScene(), k, pose);
-  cv::Mat gray;
-  cv::cvtColor(frame.color, gray, cv::COLOR_BGR2GRAY);
-  const SiftFeatures f = ExtractSiftWithDepth(gray, frame.depth, k, SiftOptions());
+  const auto frame = testing::Render(testing::SyntheticScene(), testing::TestIntrinsics(), pose);
+  View view{cv::Mat(), view.depth};
+  cv::cvtColor(frame.color, view.gray, cv::COLOR_BGR2GRAY);
+  return view;
+}
+
+// At full resolution and on the half-size image (keypoints mapped back), every kept keypoint
+// sits on the surface at its pixel.
+class SiftDownscale : public ::testing::TestWithParam<int> {};
+
+TEST_P(SiftDownscale, PointsLieOnTheRenderedSurface) {
+  const auto k = testing::TestIntrinsics();
+  const View view = RenderView();
+  const cv::Mat& gray = view.gray;
+  SiftOptions options;
+  options.downscale = GetParam();
+  const SiftFeatures f = ExtractSiftWithDepth(gray, view.depth, k, options);
   ASSERT_GT(f.size(), 100u);
   EXPECT_LE(static_cast<int>(f.size()), f.detected);
   EXPECT_EQ(f.descriptors.rows, static_cast<int>(f.size()));
   for (size_t i = 0; i < f.size(); ++i) {
     const Eigen::Vector3d& p = f.points_in_camera[i];
-    const float z = frame.depth.at<float>(std::lround(f.pixels[i].y), std::lround(f.pixels[i].x));
+    const float z = view.depth.at<float>(std::lround(f.pixels[i].y), std::lround(f.pixels[i].x));
     EXPECT_NEAR(p.z(), z, 1e-6);
     const Eigen::Vector2d uv = k.Project(p);
     EXPECT_NEAR(uv.x(), f.pixels[i].x, 1e-3);
@@ -30,20 +46,19 @@ TEST(ExtractSiftWithDepth, PointsLieOnTheRenderedSurface) {
   }
 }
 
+INSTANTIATE_TEST_SUITE_P(FullAndHalf, SiftDownscale, ::testing::Values(1, 2));
+
 TEST(ExtractSiftWithDepth, DepthRangeDropsKeypoints) {
   const auto k = testing::TestIntrinsics();
-  Rigid3d pose = Rigid3d::Identity();
-  pose.translation() = Eigen::Vector3d(0, 0, -0.5);
-  const auto frame = testing::Render(testing::SyntheticScene(), k, pose);
-  cv::Mat gray;
-  cv::cvtColor(frame.color, gray, cv::COLOR_BGR2GRAY);
+  const View view = RenderView();
+  const cv::Mat& gray = view.gray;
   SiftOptions options;
   options.max_depth = 2.0;
-  const SiftFeatures f = ExtractSiftWithDepth(gray, frame.depth, k, options);
+  const SiftFeatures f = ExtractSiftWithDepth(gray, view.depth, k, options);
   for (const auto& p : f.points_in_camera) EXPECT_LE(p.z(), 2.0);
   options.min_depth = 10.0;
   options.max_depth = 20.0;
-  EXPECT_EQ(ExtractSiftWithDepth(gray, frame.depth, k, options).size(), 0u);
+  EXPECT_EQ(ExtractSiftWithDepth(gray, view.depth, k, options).size(), 0u);
 }
 
 TEST(ExtractSiftWithDepth, UntexturedViewHasFewKeypoints) {
@@ -53,7 +68,7 @@ TEST(ExtractSiftWithDepth, UntexturedViewHasFewKeypoints) {
   const auto frame = testing::Render(scene, k, Rigid3d::Identity());
   cv::Mat gray;
   cv::cvtColor(frame.color, gray, cv::COLOR_BGR2GRAY);
-  EXPECT_LT(ExtractSiftWithDepth(gray, frame.depth, k, SiftOptions()).size(), 12u);
+  EXPECT_LT(ExtractSiftWithDepth(gray, view.depth, k, SiftOptions()).size(), 12u);
 }
 
 }  // namespace

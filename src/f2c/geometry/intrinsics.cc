@@ -63,15 +63,7 @@ CameraIntrinsics ParseIntrinsics(const std::string& text, const std::string& sou
 }
 
 CameraIntrinsics ReadIntrinsicsMatrixFile(const std::filesystem::path& path) {
-  std::vector<double> m;
-  for (const TextLine& line : ReadDataLines(path)) {
-    const auto values = ParseDoublesOrThrow(SplitWhitespace(line.text), 0, path, line.number,
-                                            "a 3x3 camera matrix");
-    m.insert(m.end(), values.begin(), values.end());
-  }
-  if (m.size() != 9) {
-    ThrowInputError(path, fmt::format("expected a 3x3 camera matrix (9 numbers), got {}", m.size()));
-  }
+  const std::vector<double> m = ReadNumberFile(path, 9, "a 3x3 camera matrix");
   if (m[1] != 0 || m[3] != 0 || m[6] != 0 || m[7] != 0 || m[8] != 1) {
     ThrowInputError(path, "not a camera matrix [fx 0 cx; 0 fy cy; 0 0 1]");
   }

@@ -35,15 +35,7 @@ std::vector<fs::path> ListImages(const fs::path& dir) {
 namespace {
 
 Eigen::Matrix4d ReadMatrix4File(const fs::path& path) {
-  std::vector<double> v;
-  for (const TextLine& line : ReadDataLines(path)) {
-    const auto values = ParseDoublesOrThrow(SplitWhitespace(line.text), 0, path, line.number,
-                                            "a 4x4 pose matrix");
-    v.insert(v.end(), values.begin(), values.end());
-  }
-  if (v.size() != 16) {
-    ThrowInputError(path, fmt::format("expected a 4x4 pose matrix (16 numbers), got {}", v.size()));
-  }
+  const std::vector<double> v = ReadNumberFile(path, 16, "a 4x4 pose matrix");
   Eigen::Matrix4d m;
   for (int i = 0; i < 16; ++i) m(i / 4, i % 4) = v[i];
   return m;

@@ -313,6 +313,47 @@ nlohmann::json ToJson(const OdometryOptions& o) {
   };
 }
 
+nlohmann::json ToJson(const PairAlignment& p) {
+  std::vector<double> m(16);
+  for (int i = 0; i < 16; ++i) m[i] = p.prev_from_curr.matrix()(i / 4, i % 4);
+  return {{"frame", p.frame},
+          {"method", MethodName(p.method)},
+          {"prev_from_curr", m},
+          {"keypoints_prev", p.keypoints_prev},
+          {"keypoints_curr", p.keypoints_curr},
+          {"matches", p.matches},
+          {"inliers", p.inliers},
+          {"inlier_rmse", p.inlier_rmse},
+          {"fitness", p.fitness},
+          {"overlap_rmse", p.overlap_rmse}};
+}
+
+PairAlignment PairAlignmentFromJson(const nlohmann::json& j) {
+  PairAlignment p;
+  p.frame = j.at("frame").get<int>();
+  const auto m = j.at("prev_from_curr").get<std::vector<double>>();
+  if (m.size() != 16) throw std::invalid_argument("prev_from_curr needs 16 numbers");
+  for (int i = 0; i < 16; ++i) p.prev_from_curr.matrix()(i / 4, i % 4) = m[i];
+  const std::string method = j.at("method").get<std::string>();
+  if (method == MethodName(AlignmentMethod::kSift)) {
+    p.method = AlignmentMethod::kSift;
+  } else if (method == MethodName(AlignmentMethod::kIcp)) {
+    p.method = AlignmentMethod::kIcp;
+  } else if (method == MethodName(AlignmentMethod::kMotionPrior)) {
+    p.method = AlignmentMethod::kMotionPrior;
+  } else {
+    throw std::invalid_argument("unknown method " + method);
+  }
+  p.keypoints_prev = j.at("keypoints_prev").get<int>();
+  p.keypoints_curr = j.at("keypoints_curr").get<int>();
+  p.matches = j.at("matches").get<int>();
+  p.inliers = j.at("inliers").get<int>();
+  p.inlier_rmse = j.at("inlier_rmse").get<double>();
+  p.fitness = j.at("fitness").get<double>();
+  p.overlap_rmse = j.at("overlap_rmse").get<double>();
+  return p;
+}
+
 nlohmann::json ToJson(const OdometryTimings& t, int frames) {
   const double per = frames > 0 ? 1000.0 / frames : 0.0;
   return {{"wall_s", t.wall},

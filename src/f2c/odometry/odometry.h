@@ -97,6 +97,10 @@ PairAlignment AlignPair(const cv::Mat& gray_prev, const cv::Mat& depth_prev,
 Trajectory ConcatenatePairs(const RgbdSequence& sequence, const std::vector<PairAlignment>& pairs);
 
 nlohmann::json ToJson(const OdometryOptions& options);
+// A pair as JSON (transform as 16 row-major numbers, method by name), and back; the parser
+// throws nlohmann::json::exception or std::invalid_argument on a malformed object.
+nlohmann::json ToJson(const PairAlignment& pair);
+PairAlignment PairAlignmentFromJson(const nlohmann::json& json);
 nlohmann::json ToJson(const OdometryTimings& timings, int frames);
 
 }  // namespace f2c

@@ -12,39 +12,7 @@
 namespace f2c {
 namespace {
 
-constexpr int kCacheVersion = 1;
-
-nlohmann::json PairToJson(const PairAlignment& p) {
-  std::vector<double> m(16);
-  for (int i = 0; i < 16; ++i) m[i] = p.prev_from_curr.matrix()(i / 4, i % 4);
-  return {{"frame", p.frame},
-          {"prev_from_curr", m},
-          {"method", static_cast<int>(p.method)},
-          {"keypoints_prev", p.keypoints_prev},
-          {"keypoints_curr", p.keypoints_curr},
-          {"matches", p.matches},
-          {"inliers", p.inliers},
-          {"inlier_rmse", p.inlier_rmse},
-          {"fitness", p.fitness},
-          {"overlap_rmse", p.overlap_rmse}};
-}
-
-PairAlignment PairFromJson(const nlohmann::json& j) {
-  PairAlignment p;
-  p.frame = j.at("frame").get<int>();
-  const auto m = j.at("prev_from_curr").get<std::vector<double>>();
-  if (m.size() != 16) throw std::runtime_error("matrix size");
-  for (int i = 0; i < 16; ++i) p.prev_from_curr.matrix()(i / 4, i % 4) = m[i];
-  p.method = static_cast<AlignmentMethod>(j.at("method").get<int>());
-  p.keypoints_prev = j.at("keypoints_prev").get<int>();
-  p.keypoints_curr = j.at("keypoints_curr").get<int>();
-  p.matches = j.at("matches").get<int>();
-  p.inliers = j.at("inliers").get<int>();
-  p.inlier_rmse = j.at("inlier_rmse").get<double>();
-  p.fitness = j.at("fitness").get<double>();
-  p.overlap_rmse = j.at("overlap_rmse").get<double>();
-  return p;
-}
+constexpr int kCacheVersion = 2;
 
 }  // namespace
 
@@ -85,7 +53,7 @@ bool PairCache::Lookup(const std::string& key, PairAlignment* pair) const {
   const auto it = entries_.find(key);
   if (it == entries_.end()) return false;
   try {
-    *pair = PairFromJson(nlohmann::json::parse(it->second));
+    *pair = PairAlignmentFromJson(nlohmann::json::parse(it->second));
     return true;
   } catch (const std::exception&) {
     return false;
@@ -94,7 +62,7 @@ bool PairCache::Lookup(const std::string& key, PairAlignment* pair) const {
 
 void PairCache::Store(const std::string& key, const PairAlignment& pair) {
   if (!enabled()) return;
-  entries_[key] = PairToJson(pair).dump();
+  entries_[key] = ToJson(pair).dump();
   dirty_ = true;
 }
 

@@ -63,4 +63,18 @@ std::vector<double> ParseDoublesOrThrow(const std::vector<std::string>& tokens, 
   return values;
 }
 
+std::vector<double> ReadNumberFile(const std::filesystem::path& path, size_t count,
+                                   const std::string& what) {
+  std::vector<double> numbers;
+  for (const TextLine& line : ReadDataLines(path)) {
+    const auto values = ParseDoublesOrThrow(SplitWhitespace(line.text), 0, path, line.number, what);
+    numbers.insert(numbers.end(), values.begin(), values.end());
+  }
+  if (numbers.size() != count) {
+    ThrowInputError(path, "expected " + what + " (" + std::to_string(count) + " numbers), got " +
+                              std::to_string(numbers.size()));
+  }
+  return numbers;
+}
+
 }  // namespace f2c

@@ -30,4 +30,9 @@ std::vector<double> ParseDoublesOrThrow(const std::vector<std::string>& tokens, 
                                         const std::filesystem::path& path, int line,
                                         const std::string& expected);
 
+// Reads a file of exactly `count` numbers in any line layout (a matrix file), or raises
+// InputError "<path>: expected <what> (<count> numbers), got N" / a bad-token error.
+std::vector<double> ReadNumberFile(const std::filesystem::path& path, size_t count,
+                                   const std::string& what);
+
 }  // namespace f2c
