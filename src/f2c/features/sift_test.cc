@@ -68,7 +68,7 @@ TEST(ExtractSiftWithDepth, UntexturedViewHasFewKeypoints) {
   const auto frame = testing::Render(scene, k, Rigid3d::Identity());
   cv::Mat gray;
   cv::cvtColor(frame.color, gray, cv::COLOR_BGR2GRAY);
-  EXPECT_LT(ExtractSiftWithDepth(gray, view.depth, k, SiftOptions()).size(), 12u);
+  EXPECT_LT(ExtractSiftWithDepth(gray, frame.depth, k, SiftOptions()).size(), 12u);
 }
 
 }  // namespace
