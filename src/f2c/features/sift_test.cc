@@ -17,7 +17,7 @@ View RenderView() {
   Rigid3d pose = Rigid3d::Identity();
   pose.translation() = Eigen::Vector3d(0, 0, -0.5);
   const auto frame = testing::Render(testing::SyntheticScene(), testing::TestIntrinsics(), pose);
-  View view{cv::Mat(), view.depth};
+  View view{cv::Mat(), frame.depth};
   cv::cvtColor(frame.color, view.gray, cv::COLOR_BGR2GRAY);
   return view;
 }
