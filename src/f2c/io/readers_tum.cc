@@ -90,6 +90,11 @@ RgbdSequence ReadTum(const fs::path& dir, const IoOptions& options) {
                     fmt::format("no depth image within {} s of a colour image in rgb.txt",
                                 options.max_time_difference));
   }
+  // TUM folders carry no intrinsics; ours (the simulator's) add camera-intrinsics.txt.
+  if (fs::exists(dir / "camera-intrinsics.txt")) {
+    seq.intrinsics = ReadIntrinsicsMatrixFile(dir / "camera-intrinsics.txt");
+    seq.intrinsics_source = (dir / "camera-intrinsics.txt").string();
+  }
   if (fs::exists(dir / "groundtruth.txt")) {
     seq.ground_truth = ReadTumTrajectory(dir / "groundtruth.txt");
     seq.ground_truth_source = dir / "groundtruth.txt";

@@ -1,0 +1,68 @@
+#pragma once
+// Ray casting of a sim::Scene into colour and depth, and a Kinect v1 / Xtion-like sensor
+// model. Exact geometry first, then each sensor effect, each switchable.
+
+#include <memory>
+#include <opencv2/core.hpp>
+
+#include "f2c/geometry/intrinsics.h"
+#include "f2c/geometry/rigid.h"
+#include "f2c/sim/scene.h"
+
+namespace f2c::sim {
+
+struct SensorOptions {
+  // Depth from disparity: z = f b / d, d quantised to disparity_step pixels (structured
+  // light sensors report 1/8-pixel disparities), plus Gaussian noise of
+  // sigma(z) = sigma_a + sigma_b (z - 0.4)^2 metres (Nguyen et al., 3DIMPVT 2012).
+  bool depth_noise = true;
+  double baseline = 0.075;         // metres
+  double disparity_step = 0.125;   // pixels
+  double sigma_a = 0.0012;         // metres
+  double sigma_b = 0.0019;         // metres per square metre
+  // No depth outside [min_depth, max_depth] metres.
+  double min_depth = 0.4;
+  double max_depth = 5.0;
+  // No depth where the surface is seen at more than this angle from its normal (degrees).
+  bool drop_grazing = true;
+  double max_incidence_deg = 80.0;
+  // No depth beside depth edges (the projector's pattern is occluded there): a pixel whose
+  // 4-neighbour depths differ by more than edge_jump * z is dropped.
+  bool drop_depth_edges = true;
+  double edge_jump = 0.1;
+  // Colour: Gaussian noise (intensity levels) and a mild blur (sigma in pixels).
+  bool color_noise = true;
+  double color_sigma = 3.0;
+  bool blur = true;
+  double blur_sigma = 0.7;
+  // Low-frequency depth distortion of uncalibrated sensors: z *= 1 + k r^2, r the distance
+  // from the principal point over the focal length. 0 = off.
+  double radial_distortion = 0.0;
+
+  // Everything off: exact depth and colour.
+  static SensorOptions Exact();
+  void Check() const;
+};
+
+struct RenderedView {
+  cv::Mat color;  // CV_8UC3 (BGR)
+  cv::Mat depth;  // CV_32F metres, 0 = no depth
+};
+
+class Renderer {
+ public:
+  explicit Renderer(const Scene& scene);
+  ~Renderer();
+  // `noise_seed` fixes the sensor noise of this view (same seed, same bytes).
+  RenderedView Render(const CameraIntrinsics& intrinsics, const Rigid3d& world_from_camera,
+                      const SensorOptions& sensor, uint64_t noise_seed) const;
+  // Distance along the ray to the first surface (infinity if none), and its triangle.
+  double CastRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, int* triangle) const;
+
+ private:
+  struct Bvh;
+  const Scene& scene_;
+  std::unique_ptr<Bvh> bvh_;
+};
+
+}  // namespace f2c::sim

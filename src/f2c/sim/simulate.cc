@@ -1,0 +1,177 @@
+#include "f2c/sim/simulate.h"
+
+#include <fmt/format.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <random>
+
+#include "f2c/util/error.h"
+#include "f2c/util/file.h"
+#include "f2c/util/progress.h"
+#include "f2c/util/text.h"
+
+namespace f2c::sim {
+namespace fs = std::filesystem;
+
+void SimulateOptions::Check() const {
+  intrinsics.Validate("--intrinsics");
+  sensor.Check();
+  walk.Check();
+  if (correspondences < 0) ThrowInputError("--correspondences", "must be >= 0");
+}
+
+namespace {
+
+// Pixels are written with cv::imwrite to a temporary name, then renamed: no half PNGs.
+void WriteImageAtomic(const fs::path& path, const cv::Mat& image) {
+  const fs::path tmp = path.string() + ".tmp.png";
+  if (!cv::imwrite(tmp.string(), image)) ThrowInputError(path, "cannot write image");
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) ThrowInputError(path, "cannot rename temporary file into place: " + ec.message());
+}
+
+// A point of frame a's exact geometry at pixel (u, v) seen also by frame b, or false.
+bool Correspond(const Renderer& renderer, const CameraIntrinsics& k, const Rigid3d& world_from_a,
+                const Rigid3d& world_from_b, double u, double v, Correspondence* c) {
+  const Eigen::Vector3d ray_a = world_from_a.linear() * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+  int tri = -1;
+  const double t = renderer.CastRay(world_from_a.translation(), ray_a, &tri);
+  if (tri < 0 || t > 5.0) return false;
+  const Eigen::Vector3d world = world_from_a.translation() + t * ray_a;
+  const Eigen::Vector3d in_b = world_from_b.inverse() * world;
+  if (in_b.z() < 0.4 || in_b.z() > 5.0) return false;
+  const Eigen::Vector2d uv = k.Project(in_b);
+  if (uv.x() < 0 || uv.y() < 0 || uv.x() > k.width - 1 || uv.y() > k.height - 1) return false;
+  // Visible from b: the first surface along b's ray to the point is the point itself.
+  const Eigen::Vector3d to_point = world - world_from_b.translation();
+  const double distance = to_point.norm();
+  const double first = renderer.CastRay(world_from_b.translation(), to_point / distance, nullptr);
+  if (std::abs(first - distance) > 1e-4) return false;
+  c->point_in_a = world_from_a.inverse() * world;
+  c->point_in_b = in_b;
+  return true;
+}
+
+}  // namespace
+
+std::vector<Correspondence> SampleCorrespondences(const Scene& scene, const Renderer& renderer,
+                                                  const CameraIntrinsics& k, const Trajectory& poses,
+                                                  int count, uint64_t seed) {
+  std::vector<Correspondence> out;
+  const int n = static_cast<int>(poses.size());
+  if (n < 2 || count == 0) return out;
+  std::mt19937_64 rng(seed ^ 0xC0221E5ULL);
+  std::uniform_int_distribution<int> frame(0, n - 1), offset(1, 10);
+  std::uniform_real_distribution<double> pu(0, k.width - 1), pv(0, k.height - 1);
+  // Loop-closure pairs: far apart in time (> 5 s), close in space and view direction.
+  std::vector<std::pair<int, int>> loops;
+  const int gap = static_cast<int>(5.0 * 30);
+  for (int a = 0; a < n; a += 5) {
+    for (int b = a + gap; b < n; b += 5) {
+      const Rigid3d& pa = poses.world_from_camera[a];
+      const Rigid3d& pb = poses.world_from_camera[b];
+      if ((pa.translation() - pb.translation()).norm() < 1.5 &&
+          pa.linear().col(2).dot(pb.linear().col(2)) > std::cos(M_PI / 4)) {
+        loops.emplace_back(a, b);
+      }
+    }
+  }
+  const int want_loops = loops.empty() ? 0 : count / 2;
+  for (int attempts = 0; static_cast<int>(out.size()) < count && attempts < 200 * count; ++attempts) {
+    const bool loop = static_cast<int>(out.size()) < want_loops;
+    int a, b;
+    if (loop) {
+      std::tie(a, b) = loops[std::uniform_int_distribution<size_t>(0, loops.size() - 1)(rng)];
+    } else {
+      a = frame(rng);
+      b = std::min(n - 1, a + offset(rng));
+      if (a == b) continue;
+    }
+    Correspondence c;
+    c.frame_a = a;
+    c.frame_b = b;
+    const double u = pu(rng), v = pv(rng);
+    if (Correspond(renderer, k, poses.world_from_camera[a], poses.world_from_camera[b], u, v, &c)) out.push_back(c);
+  }
+  return out;
+}
+
+void WriteCorrespondences(const fs::path& path, const std::vector<Correspondence>& cs) {
+  std::string text = fmt::format("n_correspondences {}\n", cs.size());
+  for (const Correspondence& c : cs) {
+    text += fmt::format("point3d SCAN:{} SCAN:{} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f}\n", c.frame_a, c.frame_b,
+                        c.point_in_a.x(), c.point_in_a.y(), c.point_in_a.z(), c.point_in_b.x(),
+                        c.point_in_b.y(), c.point_in_b.z());
+  }
+  WriteFileAtomic(path, text);
+}
+
+std::vector<Correspondence> ReadCorrespondences(const fs::path& path) {
+  const auto lines = ReadDataLines(path);
+  if (lines.empty()) ThrowInputError(path, "empty correspondence file");
+  const auto header = SplitWhitespace(lines[0].text);
+  long n = 0;
+  if (header.size() != 2 || header[0] != "n_correspondences" || !ParseInt(header[1], &n) || n < 0) {
+    ThrowInputError(path, lines[0].number, "expected 'n_correspondences N'");
+  }
+  std::vector<Correspondence> out;
+  for (size_t i = 1; i < lines.size(); ++i) {
+    const auto t = SplitWhitespace(lines[i].text);
+    long a = 0, b = 0;
+    if (t.size() != 9 || t[0] != "point3d" || t[1].rfind("SCAN:", 0) != 0 || t[2].rfind("SCAN:", 0) != 0 ||
+        !ParseInt(t[1].substr(5), &a) || !ParseInt(t[2].substr(5), &b)) {
+      ThrowInputError(path, lines[i].number, "expected 'point3d SCAN:<a> SCAN:<b> xA yA zA xB yB zB'");
+    }
+    const auto v = ParseDoublesOrThrow(t, 3, path, lines[i].number, "6 coordinates");
+    out.push_back({static_cast<int>(a), static_cast<int>(b), {v[0], v[1], v[2]}, {v[3], v[4], v[5]}});
+  }
+  if (static_cast<long>(out.size()) != n) {
+    ThrowInputError(path, fmt::format("n_correspondences says {} but {} lines follow", n, out.size()));
+  }
+  return out;
+}
+
+Trajectory Simulate(const fs::path& dir, const SimulateOptions& options, bool quiet) {
+  options.Check();
+  const Scene scene = BuildScene(options.scene, options.seed);
+  WalkOptions walk = options.walk;
+  walk.seed = options.seed;
+  const Trajectory poses = GenerateWalk(scene, walk);
+  EnsureWritableDirectory(dir);
+  fs::create_directories(dir / "rgb");
+  fs::create_directories(dir / "depth");
+  const Renderer renderer(scene);
+  std::string rgb_txt = fmt::format("# color images\n# fine2coarse simulate --scene {} --seed {} --frames {}\n",
+                                    options.scene, options.seed, walk.frames);
+  std::string depth_txt = "# depth maps\n# metres = value / 5000\n";
+  Progress progress("simulate", walk.frames, quiet);
+  Trajectory stamped;
+  for (int i = 0; i < walk.frames; ++i) {
+    const double t = 1.0 + poses.timestamps[i];  // TUM-like positive stamps
+    const RenderedView view =
+        renderer.Render(options.intrinsics, poses.world_from_camera[i], options.sensor, options.seed * 1000003ULL + i);
+    cv::Mat depth16;
+    view.depth.convertTo(depth16, CV_16U, 5000.0);
+    const std::string name = fmt::format("{:.6f}", t);
+    WriteImageAtomic(dir / "rgb" / (name + ".png"), view.color);
+    WriteImageAtomic(dir / "depth" / (name + ".png"), depth16);
+    rgb_txt += fmt::format("{} rgb/{}.png\n", name, name);
+    depth_txt += fmt::format("{} depth/{}.png\n", name, name);
+    stamped.Add(t, poses.world_from_camera[i]);
+    progress.Advance();
+  }
+  progress.Finish();
+  const CameraIntrinsics& k = options.intrinsics;
+  WriteFileAtomic(dir / "camera-intrinsics.txt",
+                  fmt::format("{} 0 {}\n0 {} {}\n0 0 1\n", k.fx, k.cx, k.fy, k.cy));
+  WriteTumTrajectory(dir / "groundtruth.txt", stamped);
+  WriteCorrespondences(dir / "correspondences.txt",
+                       SampleCorrespondences(scene, renderer, k, poses, options.correspondences, options.seed));
+  // The lists last: a folder with rgb.txt is complete.
+  WriteFileAtomic(dir / "depth.txt", depth_txt);
+  WriteFileAtomic(dir / "rgb.txt", rgb_txt);
+  return stamped;
+}
+
+}  // namespace f2c::sim

@@ -1,0 +1,30 @@
+#pragma once
+// A hand-held walk through a scene's waypoints: ~1 m/s, eye height ~1.5 m, the head
+// sweeping left and right, a small shake; when the frames outlast the route it walks back,
+// so long sequences revisit rooms (loop closures).
+
+#include <cstdint>
+
+#include "f2c/io/trajectory.h"
+#include "f2c/sim/scene.h"
+
+namespace f2c::sim {
+
+struct WalkOptions {
+  int frames = 900;
+  double fps = 30.0;
+  double speed = 1.0;              // metres per second along the route
+  double eye_height = 1.5;         // metres
+  double pitch_deg = -15.0;        // looking slightly down
+  double sweep_deg = 35.0;         // head turning amplitude around the walking direction
+  double sweep_period = 6.0;       // seconds
+  double shake_translation = 0.004;  // metres (hand tremor, smooth)
+  double shake_rotation_deg = 0.4;
+  uint64_t seed = 0;
+  void Check() const;
+};
+
+// world_from_camera per frame (camera x right, y down, z forward), time stamps i / fps.
+Trajectory GenerateWalk(const Scene& scene, const WalkOptions& options);
+
+}  // namespace f2c::sim
