@@ -11,6 +11,7 @@
 #include "f2c/eval/trajectory_error.h"
 #include "f2c/io/conf.h"
 #include "f2c/io/image.h"
+#include "f2c/sim/simulate.h"
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
 #include "f2c/util/timer.h"
@@ -178,6 +179,50 @@ int RunEvaluate(const EvaluateArgs& args) {
   PrintStatsRow("RPE/frame rotation", "deg", r.rpe_per_frame.rotation);
   PrintStatsRow("RPE/s translation", "m", r.rpe_per_second.translation);
   PrintStatsRow("RPE/s rotation", "deg", r.rpe_per_second.rotation);
+  return 0;
+}
+
+int RunSimulate(const SimulateArgs& args) {
+  sim::SimulateOptions options;
+  options.scene = args.scene;
+  options.seed = args.seed;
+  options.walk.frames = args.frames;
+  options.correspondences = args.correspondences;
+  if (args.exact) options.sensor = sim::SensorOptions::Exact();
+  options.sensor.radial_distortion = args.depth_distortion;
+  Timer timer;
+  const Trajectory poses = sim::Simulate(args.output, options, args.quiet);
+  double path = 0;
+  for (size_t i = 1; i < poses.size(); ++i) {
+    path += (poses.world_from_camera[i].translation() - poses.world_from_camera[i - 1].translation()).norm();
+  }
+  std::printf("wrote %s: %d frames of '%s' (%.1f m of camera path) in %.1f s, TUM layout with "
+              "camera-intrinsics.txt, groundtruth.txt, correspondences.txt\n",
+              args.output.c_str(), args.frames, args.scene.c_str(), path, timer.Seconds());
+  return 0;
+}
+
+int RunDemo(const DemoArgs& args) {
+  Timer timer;
+  const fs::path root = args.output;
+  std::printf("fine2coarse demo: simulating an apartment scan, registering it, evaluating it\n");
+  SimulateArgs sim_args;
+  sim_args.output = (root / "scan").string();
+  sim_args.scene = "apartment";
+  sim_args.frames = args.frames;
+  sim_args.seed = args.seed;
+  RunSimulate(sim_args);
+  RegisterArgs reg;
+  reg.input = sim_args.output;
+  reg.output = (root / "registration").string();
+  RunRegister(reg);
+  EvaluateArgs eval;
+  eval.estimate = (fs::path(reg.output) / "trajectory.txt").string();
+  eval.ground_truth = sim_args.output;
+  RunEvaluate(eval);
+  std::printf("\nscan (TUM layout, ground truth): %s\nposes (TUM, .log, .conf), run.json: %s\n"
+              "demo took %.1f s\n",
+              sim_args.output.c_str(), reg.output.c_str(), timer.Seconds());
   return 0;
 }
 

@@ -27,6 +27,25 @@ struct EvaluateArgs {
 };
 int RunEvaluate(const EvaluateArgs& args);
 
+struct SimulateArgs {
+  std::string output;
+  std::string scene = "apartment";
+  int frames = 900;
+  uint64_t seed = 0;
+  int correspondences = 400;
+  bool exact = false;              // no sensor noise
+  double depth_distortion = 0.0;   // low-frequency radial depth distortion k
+  bool quiet = false;
+};
+int RunSimulate(const SimulateArgs& args);
+
+struct DemoArgs {
+  std::string output = "fine2coarse-demo";
+  int frames = 450;
+  uint64_t seed = 0;
+};
+int RunDemo(const DemoArgs& args);
+
 struct InfoArgs {
   std::string input;
   IoOptions io;

@@ -80,6 +80,28 @@ int main(int argc, char** argv) {
                        "association window (s)")
       ->capture_default_str();
 
+  f2c::app::SimulateArgs sim;
+  CLI::App* sim_cmd = app.add_subcommand(
+      "simulate", "render a synthetic multi-room RGB-D scan with exact ground truth (TUM layout)");
+  sim_cmd->add_option("--scene", sim.scene, "two-rooms, apartment or corridor")->capture_default_str();
+  sim_cmd->add_option("--frames", sim.frames, "frames at 30 Hz")->capture_default_str()->check(CLI::PositiveNumber);
+  sim_cmd->add_option("--seed", sim.seed, "furniture, walk and noise")->capture_default_str();
+  sim_cmd->add_option("-o,--output", sim.output, "output folder")->required();
+  sim_cmd->add_option("--correspondences", sim.correspondences, "ground-truth correspondences to write")
+      ->capture_default_str();
+  sim_cmd->add_flag("--exact", sim.exact, "no sensor noise, holes or blur");
+  sim_cmd->add_option("--depth-distortion", sim.depth_distortion,
+                      "low-frequency depth distortion k: z *= 1 + k r^2 (0: off)")
+      ->capture_default_str();
+  sim_cmd->add_flag("-q,--quiet", sim.quiet, "no progress output");
+
+  f2c::app::DemoArgs demo;
+  CLI::App* demo_cmd = app.add_subcommand(
+      "demo", "no download needed: simulate an apartment scan, register it, evaluate it");
+  demo_cmd->add_option("-o,--output", demo.output, "output folder")->capture_default_str();
+  demo_cmd->add_option("--frames", demo.frames, "frames to simulate")->capture_default_str()->check(CLI::PositiveNumber);
+  demo_cmd->add_option("--seed", demo.seed, "seed")->capture_default_str();
+
   f2c::app::InfoArgs info;
   CLI::App* info_cmd = app.add_subcommand("info", "what a dataset folder holds: layout, frames, "
                                                   "intrinsics, depth range, ground truth");
@@ -98,13 +120,15 @@ int main(int argc, char** argv) {
     app.exit(e);
     return 2;
   }
-  if (reg.quiet) spdlog::set_level(spdlog::level::warn);
+  if (reg.quiet || sim.quiet) spdlog::set_level(spdlog::level::warn);
   reg.odometry.icp_fallback = !no_icp;
   reg.use_cache = !no_cache;
   try {
     if (*reg_cmd) return f2c::app::RunRegister(reg);
     if (*eval_cmd) return f2c::app::RunEvaluate(eval);
     if (*info_cmd) return f2c::app::RunInfo(info);
+    if (*sim_cmd) return f2c::app::RunSimulate(sim);
+    if (*demo_cmd) return f2c::app::RunDemo(demo);
   } catch (const f2c::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;

@@ -173,15 +173,18 @@ Scene Apartment(uint64_t seed) {
   b.Furnish({4, 0}, {8, 4}, &rng);
   b.Furnish({8, 0}, {12, 4}, &rng);
   const Vec2 x_axis(1, 0);
-  b.Visit({2.0, 1.8});  // kitchen
+  b.Visit({1.3, 2.2});  // kitchen
+  b.Visit({2.6, 1.4});
   b.ThroughDoor({2, 4}, x_axis, true);
   b.Visit({4.0, 5.0});
   b.ThroughDoor({6, 4}, x_axis, false);
-  b.Visit({6.0, 1.8});  // bedroom
+  b.Visit({5.2, 1.6});  // bedroom: a loop around its centre, not a dead end
+  b.Visit({6.8, 1.6});
   b.ThroughDoor({6, 4}, x_axis, true);
   b.Visit({8.0, 5.0});
   b.ThroughDoor({10, 4}, x_axis, false);
-  b.Visit({10.0, 1.8});  // office
+  b.Visit({9.2, 1.6});  // office
+  b.Visit({10.8, 1.6});
   b.ThroughDoor({10, 4}, x_axis, true);
   b.Visit({7.5, 5.0});
   b.ThroughDoor({6, 6}, x_axis, true);
@@ -190,7 +193,8 @@ Scene Apartment(uint64_t seed) {
   b.ThroughDoor({6, 6}, x_axis, false);
   b.Visit({3.5, 5.0});
   b.ThroughDoor({2, 4}, x_axis, false);
-  b.Visit({2.0, 1.8});  // back in the kitchen: the loop closes
+  b.Visit({2.6, 1.4});  // back in the kitchen: the loop closes
+  b.Visit({1.3, 2.2});
   return b.Take();
 }
 
@@ -217,8 +221,9 @@ Scene Corridor(uint64_t seed) {
   b.ThroughDoor({0, 1}, y_axis, false);
   b.Visit({10.0, 1.0});
   b.ThroughDoor({20, 1}, y_axis, false);
-  b.Visit({22.5, 0.2});
-  b.Visit({22.5, 1.8});
+  b.Visit({22.0, 0.0});
+  b.Visit({23.5, 1.0});
+  b.Visit({22.0, 2.0});
   b.ThroughDoor({20, 1}, y_axis, true);
   b.Visit({10.0, 1.0});
   b.ThroughDoor({0, 1}, y_axis, true);

@@ -62,6 +62,15 @@ TEST(Simulate, WalkMovesAboutOneMetrePerSecond) {
   }
   EXPECT_NEAR(path, 10.0, 1.0);  // 10 s at 1 m/s (plus a little shake)
   for (size_t i = 0; i < t.size(); ++i) EXPECT_NEAR(t.world_from_camera[i].translation().z(), 1.5, 0.02);
+  // Hand-held: no jumps. Body turns are rate-limited (60 deg/s) and the head sweep adds at
+  // most 35 deg * 2 pi / 6 s = 37 deg/s: under 3.5 degrees per frame at 30 Hz.
+  WalkOptions long_walk = w;
+  long_walk.frames = 2400;  // the whole route and back
+  const Trajectory lt = GenerateWalk(scene, long_walk);
+  for (size_t i = 1; i < lt.size(); ++i) {
+    const double angle = RotationAngle(lt.world_from_camera[i - 1].linear().transpose() * lt.world_from_camera[i].linear());
+    ASSERT_LT(angle * 180 / M_PI, 3.5) << "frame " << i;
+  }
 }
 
 TEST(Simulate, CorrespondencesMapToTheSameWorldPoint) {

@@ -1,5 +1,6 @@
 #include "f2c/sim/walk.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -48,6 +49,7 @@ struct Wobble {
 void WalkOptions::Check() const {
   if (frames < 1) ThrowInputError("--frames", "must be >= 1");
   if (!(fps > 0 && speed > 0)) ThrowInputError("walk", "fps and speed must be positive");
+  if (!(max_turn_rate_deg > 0)) ThrowInputError("walk", "max_turn_rate_deg must be positive");
 }
 
 Trajectory GenerateWalk(const Scene& scene, const WalkOptions& o) {
@@ -72,6 +74,7 @@ Trajectory GenerateWalk(const Scene& scene, const WalkOptions& o) {
   const double sweep_phase = ph(rng);
   const double deg = M_PI / 180.0;
   Trajectory walk;
+  double body = 0;  // body heading, rate-limited towards the route's direction
   for (int i = 0; i < o.frames; ++i) {
     const double t = i / o.fps, s = o.speed * t;
     const Vec2 p = position_at(s);
@@ -79,7 +82,14 @@ Trajectory GenerateWalk(const Scene& scene, const WalkOptions& o) {
     Vec2 dir = position_at(s + 0.3) - p;
     if (dir.norm() < 1e-6) dir = p - position_at(s - 0.3);
     const double heading = std::atan2(dir.y(), dir.x());
-    const double yaw = heading + o.sweep_deg * deg * std::sin(2 * M_PI * t / o.sweep_period + sweep_phase) +
+    if (i == 0) {
+      body = heading;
+    } else {
+      const double max_step = o.max_turn_rate_deg * deg / o.fps;
+      const double error = std::remainder(heading - body, 2 * M_PI);
+      body += std::clamp(error, -max_step, max_step);
+    }
+    const double yaw = body + o.sweep_deg * deg * std::sin(2 * M_PI * t / o.sweep_period + sweep_phase) +
                        o.shake_rotation_deg * deg * wyaw(t);
     const double pitch = o.pitch_deg * deg + o.shake_rotation_deg * deg * wpitch(t);
     const double roll = o.shake_rotation_deg * deg * wroll(t);

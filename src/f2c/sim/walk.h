@@ -18,6 +18,10 @@ struct WalkOptions {
   double pitch_deg = -15.0;        // looking slightly down
   double sweep_deg = 35.0;         // head turning amplitude around the walking direction
   double sweep_period = 6.0;       // seconds
+  // People turn their body at a bounded rate: the walking direction the head sweeps around
+  // follows the route's direction at most this fast (degrees per second), so dead ends and
+  // corners become gradual turns instead of jumps.
+  double max_turn_rate_deg = 60.0;
   double shake_translation = 0.004;  // metres (hand tremor, smooth)
   double shake_rotation_deg = 0.4;
   uint64_t seed = 0;
