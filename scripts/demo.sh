@@ -1,10 +1,16 @@
 #!/usr/bin/env bash
-# Sets up, builds, registers a real sequence into T0 and evaluates it against ground truth.
-#   bash scripts/demo.sh [DATASET] [OUTDIR] [register options...]
-# Default: TUM fr1/xyz from ../shared/data with the fr1 intrinsics.
+# Sets up and builds, then either
+#   bash scripts/demo.sh                 fine2coarse demo: simulate an apartment scan,
+#                                        register it, evaluate it (no data needed)
+#   bash scripts/demo.sh DATASET [OUTDIR] [register options...]
+#                                        register a dataset folder into T0 and evaluate it
 set -euo pipefail
 cd "$(dirname "$0")/.."
-input="${1:-../shared/data/tum_fr1_xyz_15hz}"
+if [ $# -eq 0 ]; then
+  bash scripts/build.sh
+  exec ./build/apps/fine2coarse demo
+fi
+input="$1"
 out="${2:-out/$(basename "$input")}"
 shift $(( $# > 2 ? 2 : $# ))
 extra=("$@")

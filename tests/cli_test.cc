@@ -116,6 +116,23 @@ TEST(Cli, CorruptFrameExitsOneNamingTheFile) {
   EXPECT_FALSE(fs::exists(out / "trajectory.txt"));
 }
 
+TEST(Cli, SimulateWritesAReadableScanAndDemoEvaluatesIt) {
+  const fs::path dir = testing::FreshTempDir("cli_sim");
+  const Result sim = RunCli("simulate --scene two-rooms --frames 4 --seed 3 -q -o " + (dir / "scan").string());
+  ASSERT_EQ(sim.code, 0) << sim.output;
+  const Result info = RunCli("info " + (dir / "scan").string());
+  EXPECT_NE(info.output.find("frames       4 "), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("fx 525.000"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("ground truth 4 poses"), std::string::npos) << info.output;
+  const Result bad = RunCli("simulate --scene castle --frames 4 -o " + (dir / "x").string());
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_EQ(bad.output, "error: --scene: unknown scene 'castle' (expected two-rooms, apartment or corridor)\n");
+  const Result demo = RunCli("demo --frames 12 -o " + (dir / "demo").string());
+  ASSERT_EQ(demo.code, 0) << demo.output;
+  EXPECT_NE(demo.output.find("12 of 12 poses associated"), std::string::npos) << demo.output;
+  EXPECT_TRUE(fs::exists(dir / "demo" / "registration" / "trajectory.txt"));
+}
+
 TEST(Cli, InfoOnRealData) {
   if (!fs::exists(Data("7scenes_redkitchen_15hz"))) GTEST_SKIP() << "../shared/data absent";
   const Result r = RunCli("info " + Data("7scenes_redkitchen_15hz").string());
