@@ -60,6 +60,9 @@ int main(int argc, char** argv) {
   reg_cmd->add_option("--robust-scale", od.ransac.robust_scale,
                       "Cauchy scale (m) of the final reweighted refit on RANSAC inliers (0: off)")
       ->capture_default_str();
+  reg_cmd->add_option("--min-fitness", od.min_fitness,
+                      "SIFT answers whose depth overlap is lower are checked against ICP")
+      ->capture_default_str();
   reg_cmd->add_option("--min-inliers", od.min_inliers, "fewer SIFT inliers fall back to ICP")
       ->capture_default_str();
   bool no_icp = false, no_cache = false;

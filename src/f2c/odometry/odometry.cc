@@ -39,6 +39,7 @@ void OdometryOptions::Check() const {
   if (relax_below_matches < 0) ThrowInputError("odometry.relax_below_matches", "must be >= 0");
   if (min_inliers < 3) ThrowInputError("odometry.min_inliers", "must be >= 3");
   if (!(fitness_threshold > 0)) ThrowInputError("odometry.fitness_threshold", "must be positive");
+  if (!(min_fitness >= 0 && min_fitness <= 1)) ThrowInputError("--min-fitness", "must be in [0, 1]");
 }
 
 namespace {
@@ -98,22 +99,6 @@ PairAlignment AlignSift(const SiftFeatures& prev, const SiftFeatures& curr,
   return pair;
 }
 
-// Depth-only ICP from the previous motion; if that fails too, the previous motion itself.
-void ApplyFallback(const cv::Mat& depth_prev, const cv::Mat& depth_curr, const CameraIntrinsics& k,
-                   const OdometryOptions& options, const Rigid3d& previous_motion,
-                   StageClock* clock, PairAlignment* pair) {
-  pair->method = AlignmentMethod::kMotionPrior;
-  pair->prev_from_curr = previous_motion;
-  if (!options.icp_fallback) return;
-  Timer timer;
-  Rigid3d icp = previous_motion;
-  if (AlignDepthIcp(depth_curr, depth_prev, k, previous_motion, options.icp, &icp)) {
-    pair->method = AlignmentMethod::kIcp;
-    pair->prev_from_curr = icp;
-  }
-  clock->icp += timer.Seconds();
-}
-
 void ScoreOverlap(const cv::Mat& depth_prev, const cv::Mat& depth_curr, const CameraIntrinsics& k,
                   const OdometryOptions& options, StageClock* clock, PairAlignment* pair) {
   Timer timer;
@@ -122,6 +107,38 @@ void ScoreOverlap(const cv::Mat& depth_prev, const cv::Mat& depth_curr, const Ca
   clock->fitness += timer.Seconds();
   pair->fitness = overlap.fitness;
   pair->overlap_rmse = overlap.rmse;
+}
+
+bool NeedsFallback(const PairAlignment& pair, const OdometryOptions& options) {
+  return pair.method != AlignmentMethod::kSift || pair.fitness < options.min_fitness;
+}
+
+// For a pair SIFT could not align, or whose SIFT answer the depth images contradict
+// (fitness below min_fitness): depth-only ICP from the previous motion. Keeps whichever of
+// the SIFT answer, the ICP answer and the previous motion the depth images agree with most
+// (SIFT wins ties).
+void ApplyFallback(const cv::Mat& depth_prev, const cv::Mat& depth_curr, const CameraIntrinsics& k,
+                   const OdometryOptions& options, const Rigid3d& previous_motion,
+                   StageClock* clock, PairAlignment* pair) {
+  PairAlignment best = *pair;
+  if (pair->method != AlignmentMethod::kSift) {
+    best.method = AlignmentMethod::kMotionPrior;
+    best.prev_from_curr = previous_motion;
+    ScoreOverlap(depth_prev, depth_curr, k, options, clock, &best);
+  }
+  if (options.icp_fallback) {
+    Timer timer;
+    PairAlignment icp = *pair;
+    icp.prev_from_curr = previous_motion;
+    const bool ok = AlignDepthIcp(depth_curr, depth_prev, k, previous_motion, options.icp, &icp.prev_from_curr);
+    clock->icp += timer.Seconds();
+    if (ok) {
+      icp.method = AlignmentMethod::kIcp;
+      ScoreOverlap(depth_prev, depth_curr, k, options, clock, &icp);
+      if (best.method == AlignmentMethod::kMotionPrior || icp.fitness > best.fitness) best = icp;
+    }
+  }
+  *pair = best;
 }
 
 struct FrameData {
@@ -155,10 +172,10 @@ PairAlignment AlignPair(const cv::Mat& gray_prev, const cv::Mat& depth_prev,
   const SiftFeatures prev = ExtractSiftWithDepth(gray_prev, depth_prev, intrinsics, options.sift);
   const SiftFeatures curr = ExtractSiftWithDepth(gray_curr, depth_curr, intrinsics, options.sift);
   PairAlignment pair = AlignSift(prev, curr, options, seed, &clock);
-  if (pair.method != AlignmentMethod::kSift) {
+  if (pair.method == AlignmentMethod::kSift) ScoreOverlap(depth_prev, depth_curr, intrinsics, options, &clock, &pair);
+  if (NeedsFallback(pair, options)) {
     ApplyFallback(depth_prev, depth_curr, intrinsics, options, previous_motion, &clock, &pair);
   }
-  ScoreOverlap(depth_prev, depth_curr, intrinsics, options, &clock, &pair);
   return pair;
 }
 
@@ -235,24 +252,23 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
     });
     tbb::parallel_for(begin + 1, end + 1, [&](int k) {
       if (have[k - 1]) return;
-      odometry.pairs[k - 1] = AlignSift(frames[k - 1 - begin].sift, frames[k - begin].sift,
-                                        options, options.seed + k, &clock);
-      odometry.pairs[k - 1].frame = k;
+      PairAlignment& pair = odometry.pairs[k - 1];
+      pair = AlignSift(frames[k - 1 - begin].sift, frames[k - begin].sift, options, options.seed + k, &clock);
+      pair.frame = k;
+      if (pair.method == AlignmentMethod::kSift) {
+        ScoreOverlap(frames[k - 1 - begin].depth, frames[k - begin].depth, *seq.intrinsics, options, &clock, &pair);
+      }
     });
     // Fallbacks in frame order, so each starts from the final previous motion.
     for (int k = begin + 1; k <= end; ++k) {
       PairAlignment& pair = odometry.pairs[k - 1];
-      if (have[k - 1] || pair.method == AlignmentMethod::kSift) continue;
-      const Rigid3d previous = k > 1 ? odometry.pairs[k - 2].prev_from_curr : Rigid3d::Identity();
-      ApplyFallback(frames[k - 1 - begin].depth, frames[k - begin].depth, *seq.intrinsics, options,
-                    previous, &clock, &pair);
+      if (!have[k - 1] && NeedsFallback(pair, options)) {
+        const Rigid3d previous = k > 1 ? odometry.pairs[k - 2].prev_from_curr : Rigid3d::Identity();
+        ApplyFallback(frames[k - 1 - begin].depth, frames[k - begin].depth, *seq.intrinsics, options,
+                      previous, &clock, &pair);
+      }
+      if (!have[k - 1]) progress.Advance();
     }
-    tbb::parallel_for(begin + 1, end + 1, [&](int k) {
-      if (have[k - 1]) return;
-      ScoreOverlap(frames[k - 1 - begin].depth, frames[k - begin].depth, *seq.intrinsics, options,
-                   &clock, &odometry.pairs[k - 1]);
-      progress.Advance();
-    });
     carry = std::move(frames.back());
     for (int k = begin + 1; k <= end; ++k) {
       if (!have[k - 1]) cache.Store(keys[k - 1], odometry.pairs[k - 1]);
@@ -309,6 +325,7 @@ nlohmann::json ToJson(const OdometryOptions& o) {
         {"max_translation", o.icp.max_translation},
         {"max_rotation_deg", o.icp.max_rotation_deg}}},
       {"fitness_threshold", o.fitness_threshold},
+      {"min_fitness", o.min_fitness},
       {"seed", o.seed},
   };
 }

@@ -160,7 +160,7 @@ Scene Apartment(uint64_t seed) {
   b.AddWall({0, 0}, {12, 0}, Material::kNoise);
   b.AddWall({12, 0}, {12, 6}, Material::kPoster);
   b.AddWall({0, 6}, {0, 0}, Material::kPoster);
-  b.AddWall({4, 0}, {4, 4}, Material::kPlain);
+  b.AddWall({4, 0}, {4, 4}, Material::kNoise);
   b.AddWall({8, 0}, {8, 4}, Material::kNoise);
   b.AddWall({0, 4}, {12, 4}, Material::kNoise, {2.0, 6.0, 10.0});
   b.AddWall({12, 6}, {10, 6}, Material::kPlain);
