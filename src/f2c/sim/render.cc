@@ -24,9 +24,10 @@ uint64_t Mix(uint64_t h) {
   h ^= h >> 33;
   return h;
 }
+// One finaliser over a multiplicative combination: cheap enough to call per texel lookup.
 uint64_t Hash(int64_t a, int64_t b, int64_t c = 0, uint64_t d = 0) {
-  return Mix(static_cast<uint64_t>(a) * 0x9E3779B97F4A7C15ULL ^ Mix(static_cast<uint64_t>(b) + 0x632BE59BD9B4E019ULL) ^
-             Mix(static_cast<uint64_t>(c) * 0x94D049BB133111EBULL + d));
+  return Mix(static_cast<uint64_t>(a) * 0x9E3779B97F4A7C15ULL + static_cast<uint64_t>(b) * 0xC2B2AE3D27D4EB4FULL +
+             static_cast<uint64_t>(c) * 0x165667B19E3779F9ULL + d * 0x27D4EB2F165667C5ULL);
 }
 double Unit(uint64_t h) { return (h >> 11) * (1.0 / 9007199254740992.0); }  // [0, 1)
 
