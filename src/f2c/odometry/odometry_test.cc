@@ -121,6 +121,29 @@ TEST(AlignConsecutive, SameInputSamePoses) {
   }
 }
 
+// With min_fitness = 1 every SIFT answer is checked against ICP; the answer kept must fit the
+// depth images at least as well as SIFT's alone, and the trajectory must stay right.
+TEST(AlignConsecutive, FitnessCheckKeepsTheBetterFittingAnswer) {
+  const SyntheticScene scene;
+  const RgbdSequence seq = WriteAndRead("odometry_fitness_check", scene, 4);
+  OdometryRun run;
+  run.quiet = true;
+  OdometryOptions sift_only;
+  sift_only.min_fitness = 0.0;
+  OdometryOptions checked;
+  checked.min_fitness = 1.0;
+  const Odometry a = AlignConsecutive(seq, sift_only, run);
+  const Odometry b = AlignConsecutive(seq, checked, run);
+  for (size_t i = 0; i < a.pairs.size(); ++i) {
+    EXPECT_EQ(a.pairs[i].method, AlignmentMethod::kSift);
+    EXPECT_GE(b.pairs[i].fitness, a.pairs[i].fitness) << "pair " << i;
+    if (b.pairs[i].method == AlignmentMethod::kSift) {
+      EXPECT_EQ(b.pairs[i].prev_from_curr.matrix(), a.pairs[i].prev_from_curr.matrix());
+    }
+  }
+  ExpectMatchesTruth(b, Sweep(4), 0.01, 0.005);
+}
+
 TEST(AlignConsecutive, MissingIntrinsicsIsAnInputError) {
   const SyntheticScene scene;
   const auto dir = testing::FreshTempDir("odometry_no_k");
