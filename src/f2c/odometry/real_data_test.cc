@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <string>
 
 #include "f2c/eval/trajectory_error.h"
 #include "f2c/odometry/odometry.h"
@@ -14,16 +15,29 @@ std::filesystem::path Data(const std::string& name) {
   return std::filesystem::path(F2C_SHARED_DATA_DIR) / name;
 }
 
-TEST(RealData, TumFr1XyzFirst80FramesT0WithinFiveCentimetres) {
-  if (!std::filesystem::exists(Data("tum_fr1_xyz_15hz"))) GTEST_SKIP() << "../shared/data absent";
+// T0 of the first `frames` frames of a TUM fr1 folder, and its error against motion capture.
+struct T0Run {
+  Odometry odometry;
+  EvaluationResult error;
+};
+T0Run RunT0(const std::string& name, int frames) {
   IoOptions io;
   io.intrinsics = "tum-fr1";
-  io.last = 79;
-  const RgbdSequence seq = ReadSequence(Data("tum_fr1_xyz_15hz"), io);
+  io.last = frames - 1;
+  const RgbdSequence seq = ReadSequence(Data(name), io);
   OdometryRun run;
   run.quiet = true;
-  const Odometry odometry = AlignConsecutive(seq, OdometryOptions(), run);
-  const EvaluationResult r = Evaluate(odometry.t0, *seq.ground_truth);
+  T0Run result;
+  result.odometry = AlignConsecutive(seq, OdometryOptions(), run);
+  result.error = Evaluate(result.odometry.t0, *seq.ground_truth);
+  return result;
+}
+
+TEST(RealData, TumFr1XyzFirst80FramesT0WithinFiveCentimetres) {
+  if (!std::filesystem::exists(Data("tum_fr1_xyz_15hz"))) GTEST_SKIP() << "../shared/data absent";
+  const T0Run t0 = RunT0("tum_fr1_xyz_15hz", 80);
+  const Odometry& odometry = t0.odometry;
+  const EvaluationResult& r = t0.error;
   EXPECT_EQ(r.ate.translation.count, 80);
   EXPECT_LT(r.ate.translation.rmse, 0.05);
   EXPECT_LT(r.rpe_per_frame.translation.rmse, 0.02);
@@ -33,13 +47,7 @@ TEST(RealData, TumFr1XyzFirst80FramesT0WithinFiveCentimetres) {
 
 TEST(RealData, TumFr1DeskNineFramesAlign) {
   if (!std::filesystem::exists(Data("tum_fr1_desk_9"))) GTEST_SKIP() << "../shared/data absent";
-  IoOptions io;
-  io.intrinsics = "tum-fr1";
-  const RgbdSequence seq = ReadSequence(Data("tum_fr1_desk_9"), io);
-  OdometryRun run;
-  run.quiet = true;
-  const Odometry odometry = AlignConsecutive(seq, OdometryOptions(), run);
-  const EvaluationResult r = Evaluate(odometry.t0, *seq.ground_truth);
+  const EvaluationResult r = RunT0("tum_fr1_desk_9", 9).error;
   EXPECT_EQ(r.ate.translation.count, 9);
   EXPECT_LT(r.ate.translation.rmse, 0.03);
 }

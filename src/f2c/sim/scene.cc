@@ -22,7 +22,7 @@ class SceneBuilder {
  public:
   explicit SceneBuilder(double height) { scene_.ceiling_height = height; }
 
-  // A vertical rectangle over the floor segment p0-p1 between heights z0 and z1.
+  // A planar quad a-b-c-d (two triangles); its normal follows the right-hand rule.
   void AddQuad(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, Material m, uint32_t surface) {
     const Vec3 n = (b - a).cross(d - a).normalized();
     scene_.triangles.push_back({a, b, c, n, m, surface});

@@ -35,8 +35,8 @@ struct Room {
 struct Scene {
   std::vector<Triangle> triangles;
   std::vector<Room> rooms;
-  // Walk of the camera through the rooms (room indices), leaving and re-entering rooms so
-  // that loops close; doors between consecutive rooms are at door_points.
+  // Floor-plan points (metres) the camera's route passes through: it leaves and re-enters
+  // rooms through their doors, so loops close.
   std::vector<Eigen::Vector2d> waypoints;
   double ceiling_height = 2.6;
 };
