@@ -8,6 +8,7 @@
 #include <numeric>
 #include <opencv2/imgproc.hpp>
 
+#include "f2c/sim/raster.h"
 #include "f2c/util/error.h"
 
 namespace f2c::sim {
@@ -31,17 +32,48 @@ uint64_t Hash(int64_t a, int64_t b, int64_t c = 0, uint64_t d = 0) {
 }
 double Unit(uint64_t h) { return (h >> 11) * (1.0 / 9007199254740992.0); }  // [0, 1)
 
+// Lattice values for value noise: a 32-bit finaliser (murmur3's fmix32) is enough for a
+// texture and costs a third of the 64-bit hash; value noise is most of the shading time.
+double Lattice(int64_t ix, int64_t iy, uint64_t salt) {
+  uint32_t h = static_cast<uint32_t>(ix) * 0x8DA6B343u ^ static_cast<uint32_t>(iy) * 0xD8163841u ^
+               static_cast<uint32_t>(salt * 0xCB1AB31Fu);
+  h ^= h >> 16;
+  h *= 0x85EBCA6Bu;
+  h ^= h >> 13;
+  h *= 0xC2B2AE35u;
+  h ^= h >> 16;
+  return h * (1.0 / 4294967296.0);
+}
+
 // Smooth value noise in [0, 1] on a grid of `cell` metres.
 double ValueNoise(double s, double t, double cell, uint64_t salt) {
   const double x = s / cell, y = t / cell;
-  const double fx = std::floor(x), fy = std::floor(y);
-  const auto ix = static_cast<int64_t>(fx), iy = static_cast<int64_t>(fy);
-  double u = x - fx, v = y - fy;
+  // floor() by truncation: without SSE4.1, std::floor is a library call, and this is the
+  // renderer's innermost function.
+  int64_t ix = static_cast<int64_t>(x), iy = static_cast<int64_t>(y);
+  ix -= x < static_cast<double>(ix);
+  iy -= y < static_cast<double>(iy);
+  double u = x - static_cast<double>(ix), v = y - static_cast<double>(iy);
   u = u * u * (3 - 2 * u);
   v = v * v * (3 - 2 * v);
-  const double a = Unit(Hash(ix, iy, 0, salt)), b = Unit(Hash(ix + 1, iy, 0, salt));
-  const double c = Unit(Hash(ix, iy + 1, 0, salt)), d = Unit(Hash(ix + 1, iy + 1, 0, salt));
+  const double a = Lattice(ix, iy, salt), b = Lattice(ix + 1, iy, salt);
+  const double c = Lattice(ix, iy + 1, salt), d = Lattice(ix + 1, iy + 1, salt);
   return (a * (1 - u) + b * u) * (1 - v) + (c * (1 - u) + d * u) * v;
+}
+
+// Standard normal samples, looked up by hash: a per-pixel Box-Muller (a log, a sqrt and a
+// cosine per sample, four samples per pixel) cost more than the rest of the render. 2^16
+// samples drawn once from a fixed sequence, so every run sees the same table.
+double Gaussian(uint64_t h) {
+  static const std::vector<double> table = [] {
+    std::vector<double> t(1 << 16);
+    for (size_t i = 0; i < t.size(); ++i) {
+      const uint64_t g = Mix(i * 0x9E3779B97F4A7C15ULL + 0x5EED);
+      t[i] = std::sqrt(-2.0 * std::log(std::max(Unit(g), 1e-12))) * std::cos(2 * M_PI * Unit(Mix(g)));
+    }
+    return t;
+  }();
+  return table[h >> 48];
 }
 
 cv::Vec3d Tint(uint64_t h) {  // a muted random colour, BGR in [0, 255]
@@ -233,18 +265,20 @@ RenderedView Renderer::Render(const CameraIntrinsics& k, const Rigid3d& world_fr
   cv::Mat incidence(k.height, k.width, CV_32F);
   const Vec3 origin = world_from_camera.translation();
   const Eigen::Matrix3d r = world_from_camera.linear();
+  const VisibilityBuffer visible = RasterizeVisibility(scene_.triangles, k, world_from_camera);
   tbb::parallel_for(0, k.height, [&](int v) {
+    const int32_t* ids = visible.triangle.ptr<int32_t>(v);
+    const double* depths = visible.depth.ptr<double>(v);
     for (int u = 0; u < k.width; ++u) {
-      const Vec3 ray_camera((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);  // z = 1: t is depth
-      const Vec3 d = r * ray_camera;
-      int id = -1;
-      const double t = CastRay(origin, d, &id);
+      const int id = ids[u];
       if (id < 0) {
         exact.at<float>(v, u) = 0;
         view.color.at<cv::Vec3b>(v, u) = {0, 0, 0};
         incidence.at<float>(v, u) = 0;
         continue;
       }
+      const Vec3 d = r * Vec3((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);  // z = 1: t is depth
+      const double t = depths[u];
       const Triangle& tri = scene_.triangles[id];
       const Vec3 p = origin + t * d;
       double s, tt;
@@ -288,8 +322,7 @@ RenderedView Renderer::Render(const CameraIntrinsics& k, const Rigid3d& world_fr
         z *= 1.0 + sensor.radial_distortion * (x * x + y * y);
       }
       if (sensor.depth_noise) {
-        const uint64_t h = Hash(u, v, static_cast<int64_t>(noise_seed), 0xD1);
-        const double g = std::sqrt(-2.0 * std::log(std::max(Unit(h), 1e-12))) * std::cos(2 * M_PI * Unit(Mix(h)));
+        const double g = Gaussian(Hash(u, v, static_cast<int64_t>(noise_seed), 0xD1));
         z += g * (sensor.sigma_a + sensor.sigma_b * (z - 0.4) * (z - 0.4));
         const double disparity = std::round(fb / z / sensor.disparity_step) * sensor.disparity_step;
         z = disparity > 0 ? fb / disparity : 0.0;
@@ -308,8 +341,7 @@ RenderedView Renderer::Render(const CameraIntrinsics& k, const Rigid3d& world_fr
       for (int u = 0; u < k.width; ++u) {
         cv::Vec3b& c = view.color.at<cv::Vec3b>(v, u);
         for (int ch = 0; ch < 3; ++ch) {
-          const uint64_t h = Hash(u, v, static_cast<int64_t>(noise_seed), 0xC0 + ch);
-          const double g = std::sqrt(-2.0 * std::log(std::max(Unit(h), 1e-12))) * std::cos(2 * M_PI * Unit(Mix(h)));
+          const double g = Gaussian(Hash(u, v, static_cast<int64_t>(noise_seed), 0xC0 + ch));
           c[ch] = cv::saturate_cast<uint8_t>(c[ch] + sensor.color_sigma * g);
         }
       }
