@@ -41,7 +41,7 @@ int RunSimulate(const SimulateArgs& args);
 
 struct DemoArgs {
   std::string output = "fine2coarse-demo";
-  int frames = 300;  // 10 s of walking: kitchen, corridor, bedroom; about a minute all told
+  int frames = 900;  // 30 s of walking through several rooms and back; about a minute all told
   uint64_t seed = 0;
 };
 int RunDemo(const DemoArgs& args);

@@ -17,6 +17,7 @@ using Vec3 = Eigen::Vector3d;
 
 constexpr double kDoorWidth = 1.0;
 constexpr double kDoorHeight = 2.05;
+constexpr double kPartition = 0.1;  // thickness of walls with doors (metres)
 
 class SceneBuilder {
  public:
@@ -29,25 +30,57 @@ class SceneBuilder {
     scene_.triangles.push_back({a, c, d, n, m, surface});
   }
 
-  // A wall from p0 to p1 with door openings centred at the given distances along it.
+  // A wall from p0 to p1 with door openings centred at the given distances along it. A wall
+  // with doors is a partition of `kPartition` metres: two faces, and reveals (jambs and
+  // soffit) in each opening, which are the short perpendicular planes a camera sees when it
+  // walks through a door. Walls without doors are one face on the line (the inside of the
+  // building's shell).
   void AddWall(const Vec2& p0, const Vec2& p1, Material m, std::vector<double> doors = {}) {
-    const uint32_t surface = next_surface_++;
     const double length = (p1 - p0).norm();
     const Vec2 dir = (p1 - p0) / length;
-    auto at = [&](double s, double z) {
-      const Vec2 p = p0 + s * dir;
-      return Vec3(p.x(), p.y(), z);
-    };
+    const Vec2 left(-dir.y(), dir.x());
     const double h = scene_.ceiling_height;
     std::sort(doors.begin(), doors.end());
-    double s = 0;
-    for (double centre : doors) {
-      const double d0 = centre - kDoorWidth / 2, d1 = centre + kDoorWidth / 2;
-      if (d0 > s) AddQuad(at(s, 0), at(d0, 0), at(d0, h), at(s, h), m, surface);
-      AddQuad(at(d0, kDoorHeight), at(d1, kDoorHeight), at(d1, h), at(d0, h), m, surface);  // lintel
-      s = d1;
+    // One face, offset `shift` along `left`; its quads face `left` if `faces_left`.
+    auto face = [&](double shift, bool faces_left) {
+      const uint32_t surface = next_surface_++;
+      auto at = [&](double s, double z) {
+        const Vec2 p = p0 + s * dir + shift * left;
+        return Vec3(p.x(), p.y(), z);
+      };
+      auto quad = [&](double s0, double z0, double s1, double z1) {
+        if (faces_left) {
+          AddQuad(at(s1, z0), at(s0, z0), at(s0, z1), at(s1, z1), m, surface);
+        } else {
+          AddQuad(at(s0, z0), at(s1, z0), at(s1, z1), at(s0, z1), m, surface);
+        }
+      };
+      double s = 0;
+      for (double centre : doors) {
+        const double d0 = centre - kDoorWidth / 2, d1 = centre + kDoorWidth / 2;
+        if (d0 > s) quad(s, 0, d0, h);
+        quad(d0, kDoorHeight, d1, h);  // lintel
+        s = d1;
+      }
+      if (s < length) quad(s, 0, length, h);
+    };
+    if (doors.empty()) {
+      face(0, true);
+      return;
     }
-    if (s < length) AddQuad(at(s, 0), at(length, 0), at(length, h), at(s, h), m, surface);
+    face(kPartition / 2, true);
+    face(-kPartition / 2, false);
+    for (double centre : doors) {
+      auto at = [&](double s, double offset, double z) {
+        const Vec2 p = p0 + s * dir + offset * left;
+        return Vec3(p.x(), p.y(), z);
+      };
+      const double d0 = centre - kDoorWidth / 2, d1 = centre + kDoorWidth / 2, t = kPartition / 2;
+      AddQuad(at(d0, -t, 0), at(d0, t, 0), at(d0, t, kDoorHeight), at(d0, -t, kDoorHeight), m, next_surface_++);
+      AddQuad(at(d1, t, 0), at(d1, -t, 0), at(d1, -t, kDoorHeight), at(d1, t, kDoorHeight), m, next_surface_++);
+      AddQuad(at(d0, -t, kDoorHeight), at(d0, t, kDoorHeight), at(d1, t, kDoorHeight), at(d1, -t, kDoorHeight), m,
+              next_surface_++);
+    }
   }
 
   // Floor and ceiling of a convex room (fan triangulation).
@@ -65,17 +98,26 @@ class SceneBuilder {
     }
   }
 
-  // An axis-aligned box standing on the floor (no bottom face).
-  void AddBox(const Vec2& min, const Vec2& max, double height, Material m) {
-    const Vec3 lo(min.x(), min.y(), 0), hi(max.x(), max.y(), height);
-    const Vec3 p[8] = {{lo.x(), lo.y(), 0},      {hi.x(), lo.y(), 0},      {hi.x(), hi.y(), 0},
-                       {lo.x(), hi.y(), 0},      {lo.x(), lo.y(), height}, {hi.x(), lo.y(), height},
-                       {hi.x(), hi.y(), height}, {lo.x(), hi.y(), height}};
+  // An axis-aligned box from z0 to z1; no bottom face when it stands on the floor.
+  void AddBox(const Vec2& min, const Vec2& max, double z0, double z1, Material m) {
+    const Vec3 p[8] = {{min.x(), min.y(), z0}, {max.x(), min.y(), z0}, {max.x(), max.y(), z0},
+                       {min.x(), max.y(), z0}, {min.x(), min.y(), z1}, {max.x(), min.y(), z1},
+                       {max.x(), max.y(), z1}, {min.x(), max.y(), z1}};
     AddQuad(p[0], p[1], p[5], p[4], m, next_surface_++);
     AddQuad(p[1], p[2], p[6], p[5], m, next_surface_++);
     AddQuad(p[2], p[3], p[7], p[6], m, next_surface_++);
     AddQuad(p[3], p[0], p[4], p[7], m, next_surface_++);
     AddQuad(p[4], p[5], p[6], p[7], m, next_surface_++);
+    if (z0 > 0) AddQuad(p[0], p[3], p[2], p[1], m, next_surface_++);
+  }
+
+  // A table: a slab top on four square legs.
+  void AddTable(const Vec2& min, const Vec2& max, double height, Material m) {
+    constexpr double kTop = 0.04, kLeg = 0.05;
+    AddBox(min, max, height - kTop, height, m);
+    const Vec2 leg(kLeg, kLeg);
+    const Vec2 corners[4] = {min, {max.x() - kLeg, min.y()}, max - leg, {min.x(), max.y() - kLeg}};
+    for (const Vec2& c : corners) AddBox(c, c + leg, 0, height - kTop, m);
   }
 
   // Furniture along the walls of an axis-aligned room, leaving its centre free for the walk.
@@ -89,16 +131,32 @@ class SceneBuilder {
       Vec2 lo, hi;
       if (side < 2) {  // south / north wall
         const double x = min.x() + along * (max.x() - min.x() - w);
-        const double y = side == 0 ? min.y() + 0.05 : max.y() - 0.05 - d;
+        const double y = side == 0 ? min.y() + 0.08 : max.y() - 0.08 - d;
         lo = {x, y};
         hi = {x + w, y + d};
       } else {         // west / east wall
         const double y = min.y() + along * (max.y() - min.y() - w);
-        const double x = side == 2 ? min.x() + 0.05 : max.x() - 0.05 - d;
+        const double x = side == 2 ? min.x() + 0.08 : max.x() - 0.08 - d;
         lo = {x, y};
         hi = {x + d, y + w};
       }
-      AddBox(lo, hi, h, u(*rng) < 0.6 ? Material::kWood : Material::kNoise);
+      // A cabinet (box), a table (slab on legs) or a wall shelf (a slab at eye height).
+      const double kind = u(*rng);
+      const Material m = u(*rng) < 0.6 ? Material::kWood : Material::kNoise;
+      if (kind < 0.45) {
+        AddBox(lo, hi, 0, h, m);
+      } else if (kind < 0.8) {
+        AddTable(lo, hi, 0.72 + 0.06 * u(*rng), m);
+      } else {
+        // Shelves hug the wall: 0.25 m deep, 3 cm thick.
+        const double z = 1.1 + 0.5 * u(*rng);
+        Vec2 slo = lo, shi = hi;
+        if (side == 0) shi.y() = slo.y() + 0.25;
+        if (side == 1) slo.y() = shi.y() - 0.25;
+        if (side == 2) shi.x() = slo.x() + 0.25;
+        if (side == 3) slo.x() = shi.x() - 0.25;
+        AddBox(slo, shi, z, z + 0.03, m);
+      }
     }
   }
 

@@ -1,6 +1,7 @@
 #include "f2c/sim/simulate.h"
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <opencv2/imgcodecs.hpp>
 #include <random>
@@ -147,20 +148,25 @@ Trajectory Simulate(const fs::path& dir, const SimulateOptions& options, bool qu
   std::string depth_txt = "# depth maps\n# metres = value / 5000\n";
   Progress progress("simulate", walk.frames, quiet);
   Trajectory stamped;
+  std::vector<std::string> names(walk.frames);
   for (int i = 0; i < walk.frames; ++i) {
     const double t = 1.0 + poses.timestamps[i];  // TUM-like positive stamps
+    names[i] = fmt::format("{:.6f}", t);
+    stamped.Add(t, poses.world_from_camera[i]);
+    rgb_txt += fmt::format("{} rgb/{}.png\n", names[i], names[i]);
+    depth_txt += fmt::format("{} depth/{}.png\n", names[i], names[i]);
+  }
+  // Frames in parallel: PNG encoding is single-threaded and costs as much as rendering.
+  // Each frame's noise depends only on its index, so the bytes do not depend on the order.
+  tbb::parallel_for(0, walk.frames, [&](int i) {
     const RenderedView view =
         renderer.Render(options.intrinsics, poses.world_from_camera[i], options.sensor, options.seed * 1000003ULL + i);
     cv::Mat depth16;
     view.depth.convertTo(depth16, CV_16U, 5000.0);
-    const std::string name = fmt::format("{:.6f}", t);
-    WriteImageAtomic(dir / "rgb" / (name + ".png"), view.color);
-    WriteImageAtomic(dir / "depth" / (name + ".png"), depth16);
-    rgb_txt += fmt::format("{} rgb/{}.png\n", name, name);
-    depth_txt += fmt::format("{} depth/{}.png\n", name, name);
-    stamped.Add(t, poses.world_from_camera[i]);
+    WriteImageAtomic(dir / "rgb" / (names[i] + ".png"), view.color);
+    WriteImageAtomic(dir / "depth" / (names[i] + ".png"), depth16);
     progress.Advance();
-  }
+  });
   progress.Finish();
   const CameraIntrinsics& k = options.intrinsics;
   WriteFileAtomic(dir / "camera-intrinsics.txt",
