@@ -1,0 +1,115 @@
+#include "f2c/features/point_grid.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <string>
+
+#include "f2c/util/error.h"
+
+namespace f2c {
+
+void PointGridOptions::Check() const {
+  auto fail = [](const std::string& field, const std::string& what) { ThrowInputError("features." + field, what); };
+  if (step < 1) fail("step", "must be >= 1");
+  if (!(min_depth >= 0 && max_depth > min_depth)) fail("max_depth", "need 0 <= min_depth < max_depth");
+  if (!(bilateral_sigma_depth > 0 && bilateral_sigma_pixels > 0)) fail("bilateral", "sigmas must be positive");
+  if (normal_radius_pixels < 1) fail("normal_radius_pixels", "must be >= 1");
+  if (!(normal_radius > 0)) fail("normal_radius", "must be positive");
+  if (min_normal_points < 3) fail("min_normal_points", "must be >= 3");
+}
+
+int PointGrid::ValidCount() const {
+  int n = 0;
+  for (size_t i = 0; i < points.size(); ++i) n += Valid(static_cast<int>(i));
+  return n;
+}
+
+namespace {
+
+cv::Mat SanitisedDepth(const cv::Mat& depth, const PointGridOptions& o) {
+  cv::Mat clean(depth.size(), CV_32F);
+  for (int v = 0; v < depth.rows; ++v) {
+    const float* in = depth.ptr<float>(v);
+    float* out = clean.ptr<float>(v);
+    for (int u = 0; u < depth.cols; ++u) {
+      const float z = in[u];
+      out[u] = std::isfinite(z) && z >= o.min_depth && z <= o.max_depth ? z : 0.0f;
+    }
+  }
+  if (!o.bilateral) return clean;
+  // Invalid pixels (0) differ from any valid depth by far more than sigma_depth, so they get
+  // no weight in their neighbours' averages; they are put back to 0 afterwards.
+  cv::Mat smooth;
+  const int diameter = 2 * static_cast<int>(std::ceil(2 * o.bilateral_sigma_pixels)) + 1;
+  cv::bilateralFilter(clean, smooth, diameter, o.bilateral_sigma_depth, o.bilateral_sigma_pixels);
+  smooth.setTo(0.0f, clean == 0.0f);
+  return smooth;
+}
+
+}  // namespace
+
+PointGrid BuildPointGrid(const cv::Mat& depth, const CameraIntrinsics& k, const PointGridOptions& o) {
+  o.Check();
+  F2C_CHECK(depth.type() == CV_32F, "depth is CV_32F metres");
+  const cv::Mat clean = SanitisedDepth(depth, o);
+  PointGrid g;
+  g.step = o.step;
+  g.width = depth.cols / o.step;
+  g.height = depth.rows / o.step;
+  const int n = g.width * g.height;
+  g.points.assign(n, Eigen::Vector3f::Zero());
+  g.normals.assign(n, Eigen::Vector3f::Zero());
+  g.curvature.assign(n, 0.0f);
+  for (int y = 0; y < g.height; ++y) {
+    for (int x = 0; x < g.width; ++x) {
+      const int u = g.PixelU(x), v = g.PixelV(y);
+      const float z = clean.at<float>(v, u);
+      if (z > 0) g.points[g.Index(x, y)] = k.Unproject(u, v, z).cast<float>();
+    }
+  }
+
+  // Normals: covariance of the neighbours, smallest eigenvector. Centred on the cell's own
+  // point (not the neighbours' mean) while accumulating, for numerical stability in float.
+  const int r = std::max(1, o.normal_radius_pixels / o.step);
+  const float r2 = static_cast<float>(o.normal_radius * o.normal_radius);
+  for (int y = 0; y < g.height; ++y) {
+    for (int x = 0; x < g.width; ++x) {
+      const int i = g.Index(x, y);
+      if (!g.Valid(i)) continue;
+      const Eigen::Vector3f& c = g.points[i];
+      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+      Eigen::Matrix3f sum2 = Eigen::Matrix3f::Zero();
+      int count = 0;
+      for (int yy = std::max(0, y - r); yy <= std::min(g.height - 1, y + r); ++yy) {
+        for (int xx = std::max(0, x - r); xx <= std::min(g.width - 1, x + r); ++xx) {
+          const int j = g.Index(xx, yy);
+          if (!g.Valid(j)) continue;
+          const Eigen::Vector3f d = g.points[j] - c;
+          if (d.squaredNorm() > r2) continue;
+          sum += d;
+          sum2 += d * d.transpose();
+          ++count;
+        }
+      }
+      if (count < o.min_normal_points) continue;
+      // The eigen-solve in double: the closed form loses the smallest eigenvector's accuracy
+      // in float exactly where it matters, on near-perfect planes.
+      const Eigen::Vector3d mean = (sum / count).cast<double>();
+      const Eigen::Matrix3d cov = (sum2 / count).cast<double>() - mean * mean.transpose();
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+      eig.computeDirect(cov);
+      const Eigen::Vector3d lambda = eig.eigenvalues();  // ascending
+      // Collinear neighbours (a thin structure, one row of depth) define no plane.
+      if (!(lambda(1) > 1e-3 * lambda(2))) continue;
+      Eigen::Vector3f normal = eig.eigenvectors().col(0).cast<float>().normalized();
+      if (normal.dot(c) > 0) normal = -normal;  // towards the camera
+      g.normals[i] = normal;
+      const double total = lambda.sum();
+      g.curvature[i] = total > 0 ? static_cast<float>(std::max(0.0, lambda(0)) / total) : 0.0f;
+    }
+  }
+  return g;
+}
+
+}  // namespace f2c
