@@ -146,4 +146,16 @@ RgbdSequence ReadSequence(const fs::path& path, const IoOptions& options) {
   return sequence;
 }
 
+std::string CacheContext(const RgbdSequence& seq, const std::string& options_json) {
+  std::string context = options_json;
+  if (seq.intrinsics) {
+    const CameraIntrinsics& k = *seq.intrinsics;
+    context += fmt::format("|K {:.17g} {:.17g} {:.17g} {:.17g} {} {}", k.fx, k.fy, k.cx, k.cy,
+                           k.width, k.height);
+  }
+  context += fmt::format("|depth {:.17g} {} {}", seq.depth_scale, static_cast<int>(seq.depth_encoding),
+                         fmt::join(seq.invalid_depth_values, ","));
+  return context;
+}
+
 }  // namespace f2c

@@ -69,4 +69,8 @@ RgbdSequence ReadSequence(const std::filesystem::path& path, const IoOptions& op
 // The layout of `path`, or InputError("<path>: unknown dataset layout ...").
 DatasetLayout DetectLayout(const std::filesystem::path& path);
 
+// What every cache key of one run shares: the options' JSON, intrinsics and depth decoding
+// (the odometry's pair cache and the feature cache both key on it).
+std::string CacheContext(const RgbdSequence& sequence, const std::string& options_json);
+
 }  // namespace f2c

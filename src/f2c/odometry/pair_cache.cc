@@ -16,18 +16,6 @@ constexpr int kCacheVersion = 2;
 
 }  // namespace
 
-std::string CacheContext(const RgbdSequence& seq, const std::string& options_json) {
-  std::string context = options_json;
-  if (seq.intrinsics) {
-    const CameraIntrinsics& k = *seq.intrinsics;
-    context += fmt::format("|K {:.17g} {:.17g} {:.17g} {:.17g} {} {}", k.fx, k.fy, k.cx, k.cy,
-                           k.width, k.height);
-  }
-  context += fmt::format("|depth {:.17g} {} {}", seq.depth_scale, static_cast<int>(seq.depth_encoding),
-                         fmt::join(seq.invalid_depth_values, ","));
-  return context;
-}
-
 PairCache::PairCache(std::filesystem::path path, std::string context)
     : path_(std::move(path)), context_hash_(Fnv1a64(context)) {
   if (!enabled() || !std::filesystem::exists(path_)) return;

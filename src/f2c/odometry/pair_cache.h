@@ -13,9 +13,6 @@ namespace f2c {
 
 struct PairAlignment;
 
-// What every key of one run shares: intrinsics, depth decoding and the options' JSON.
-std::string CacheContext(const RgbdSequence& sequence, const std::string& options_json);
-
 class PairCache {
  public:
   // An empty path disables the cache. A cache file that cannot be parsed, or of another

@@ -1,0 +1,65 @@
+#pragma once
+// Features and proxies of a whole sequence, extracted in parallel over frames, and their
+// on-disk cache: a compact, versioned binary file (the authors cache theirs as .fcb).
+//
+// Cache format (little-endian), version 1:
+//   "F2CFEAT\0"  u32 version  u64 context hash  u32 frames
+//   per frame:   u64 frame key  u16 note length, note bytes
+//                u32 proxies,  per proxy:   normal 3f, offset f, centroid 3f,
+//                                           covariance 6f (xx xy xz yy yz zz), extent 2f,
+//                                           rms f, inliers i32
+//                u32 features, per feature: type u8, position 3f, direction 3f, salience f,
+//                                           proxy i32, pixel 2f
+// A frame's key hashes its depth file's bytes with the context (options, intrinsics, depth
+// decoding), so frames are reused one by one: other options or another frame selection
+// recompute exactly the frames they change.
+
+#include <filesystem>
+#include <nlohmann/json_fwd.hpp>
+#include <vector>
+
+#include "f2c/features/depth_features.h"
+#include "f2c/io/sequence.h"
+
+namespace f2c {
+
+struct FeatureSet {
+  std::vector<FrameFeatures> frames;  // one per sequence frame
+};
+
+struct FeatureRun {
+  std::filesystem::path cache_file;  // empty: no cache
+  bool quiet = false;                // no progress bar
+};
+
+struct FeatureTimings {
+  double decode = 0;   // seconds of CPU reading depth images (summed over threads)
+  double extract = 0;  // seconds of CPU extracting (summed over threads)
+  double hashing = 0;  // seconds hashing files for the cache (wall)
+  double wall = 0;
+  int frames_computed = 0;
+  int frames_cached = 0;
+};
+
+// InputError when the sequence has no intrinsics or a depth image cannot be read. Frames
+// without usable depth give empty results with a note (logged), not an error.
+FeatureSet ExtractFeatures(const RgbdSequence& sequence, const FeatureOptions& options, const FeatureRun& run,
+                           FeatureTimings* timings = nullptr);
+
+// One cache entry per frame: its key and its features.
+struct FeatureCacheEntry {
+  uint64_t key = 0;
+  FrameFeatures features;
+};
+void WriteFeatureCache(const std::filesystem::path& path, uint64_t context_hash,
+                       const std::vector<FeatureCacheEntry>& entries);
+// InputError naming the file when it is not a feature cache, has another version or is
+// truncated. `context_hash` receives the header's.
+std::vector<FeatureCacheEntry> ReadFeatureCache(const std::filesystem::path& path, uint64_t* context_hash);
+
+nlohmann::json ToJson(const FeatureOptions& options);
+nlohmann::json ToJson(const FeatureTimings& timings, int frames);
+// Per-type totals and per-frame means of a feature set, for run.json and benchmarks.
+nlohmann::json FeatureStatistics(const FeatureSet& set);
+
+}  // namespace f2c

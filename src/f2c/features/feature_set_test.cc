@@ -1,0 +1,151 @@
+#include "f2c/features/feature_set.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <fstream>
+
+#include "f2c/testing/synthetic_scene.h"
+#include "f2c/util/file.h"
+
+namespace f2c {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> Poses(int n) {
+  std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> poses;
+  for (int i = 0; i < n; ++i) {
+    Rigid3d pose = Rigid3d::Identity();
+    pose.linear() = Eigen::AngleAxisd(-0.4 + 0.05 * i, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    pose.translation() = Eigen::Vector3d(0.1 * i, -0.3, -1.0);
+    poses.push_back(pose);
+  }
+  return poses;
+}
+
+RgbdSequence WriteSequence(const fs::path& dir, int n) {
+  testing::WriteTumSequence(dir, testing::SyntheticScene(), testing::TestIntrinsics(), Poses(n));
+  IoOptions io;
+  io.intrinsics = "525,525,319.5,239.5";
+  return ReadSequence(dir, io);
+}
+
+void ExpectSameFeatures(const FrameFeatures& a, const FrameFeatures& b) {
+  EXPECT_EQ(a.note, b.note);
+  ASSERT_EQ(a.proxies.size(), b.proxies.size());
+  for (size_t i = 0; i < a.proxies.size(); ++i) {
+    const PlanarProxy &p = a.proxies[i], &q = b.proxies[i];
+    EXPECT_EQ(p.normal, q.normal);
+    EXPECT_EQ(p.offset, q.offset);
+    EXPECT_EQ(p.centroid, q.centroid);
+    EXPECT_EQ(p.covariance, q.covariance);
+    EXPECT_EQ(p.extent, q.extent);
+    EXPECT_EQ(p.rms, q.rms);
+    EXPECT_EQ(p.inliers, q.inliers);
+  }
+  ASSERT_EQ(a.features.size(), b.features.size());
+  for (size_t i = 0; i < a.features.size(); ++i) {
+    const Feature &x = a.features[i], &y = b.features[i];
+    EXPECT_EQ(x.type, y.type);
+    EXPECT_EQ(x.position, y.position);
+    EXPECT_EQ(x.direction, y.direction);
+    EXPECT_EQ(x.salience, y.salience);
+    EXPECT_EQ(x.proxy, y.proxy);
+    EXPECT_EQ(x.pixel, y.pixel);
+  }
+}
+
+TEST(FeatureCache, RoundTripsEveryField) {
+  const fs::path dir = testing::FreshTempDir("feature_cache_round_trip");
+  const CameraIntrinsics k = testing::TestIntrinsics();
+  std::vector<FeatureCacheEntry> entries;
+  for (const Rigid3d& pose : Poses(2)) {
+    entries.push_back({entries.size() + 77, ExtractFrameFeatures(testing::Render({}, k, pose).depth, k, {})});
+  }
+  entries.push_back({5, ExtractFrameFeatures(cv::Mat::zeros(480, 640, CV_32F), k, {})});  // a note, nothing else
+  ASSERT_GT(entries[0].features.features.size(), 100u);
+  WriteFeatureCache(dir / "f.f2cf", 0xABCDEF, entries);
+  uint64_t context = 0;
+  const std::vector<FeatureCacheEntry> back = ReadFeatureCache(dir / "f.f2cf", &context);
+  EXPECT_EQ(context, 0xABCDEFu);
+  ASSERT_EQ(back.size(), entries.size());
+  for (size_t i = 0; i < back.size(); ++i) {
+    EXPECT_EQ(back[i].key, entries[i].key);
+    ExpectSameFeatures(back[i].features, entries[i].features);
+  }
+  EXPECT_EQ(back[2].features.note, "no valid depth");
+}
+
+TEST(FeatureCache, BadFilesAreClearErrors) {
+  const fs::path dir = testing::FreshTempDir("feature_cache_bad");
+  const CameraIntrinsics k = testing::TestIntrinsics();
+  WriteFeatureCache(dir / "good.f2cf", 1, {{1, ExtractFrameFeatures(testing::Render({}, k, Poses(1)[0]).depth, k, {})}});
+  const std::string bytes = ReadFileToString(dir / "good.f2cf");
+  WriteFileAtomic(dir / "short.f2cf", bytes.substr(0, bytes.size() - 7));
+  WriteFileAtomic(dir / "other.f2cf", "P6\n640 480\n255\n");
+  std::string v2 = bytes;
+  v2[8] = 2;
+  WriteFileAtomic(dir / "v2.f2cf", v2);
+  uint64_t context = 0;
+  auto message = [&](const fs::path& p) { return testing::InputErrorMessage([&] { ReadFeatureCache(p, &context); }); };
+  EXPECT_EQ(message(dir / "short.f2cf"), (dir / "short.f2cf").string() + ": feature cache is truncated or corrupt");
+  EXPECT_EQ(message(dir / "other.f2cf"), (dir / "other.f2cf").string() + ": not a fine2coarse feature cache");
+  EXPECT_EQ(message(dir / "v2.f2cf"),
+            (dir / "v2.f2cf").string() + ": feature cache version 2 (this build reads version 1)");
+}
+
+TEST(ExtractFeatures, ReusesTheCacheFrameByFrameAndRecomputesWhatChanged) {
+  const fs::path dir = testing::FreshTempDir("feature_set_cache");
+  const RgbdSequence seq = WriteSequence(dir / "scan", 4);
+  FeatureRun run;
+  run.quiet = true;
+  run.cache_file = dir / "cache" / "features.f2cf";
+  FeatureTimings first, second, third;
+  const FeatureSet a = ExtractFeatures(seq, FeatureOptions(), run, &first);
+  EXPECT_EQ(first.frames_computed, 4);
+  EXPECT_EQ(first.frames_cached, 0);
+  ASSERT_TRUE(fs::exists(run.cache_file));
+
+  const FeatureSet b = ExtractFeatures(seq, FeatureOptions(), run, &second);
+  EXPECT_EQ(second.frames_cached, 4);
+  EXPECT_EQ(second.frames_computed, 0);
+  for (int i = 0; i < 4; ++i) ExpectSameFeatures(a.frames[i], b.frames[i]);
+
+  // Another frame selection reuses the frames it shares; other options recompute all.
+  IoOptions io;
+  io.intrinsics = "525,525,319.5,239.5";
+  io.first = 2;
+  FeatureTimings subset;
+  const FeatureSet tail = ExtractFeatures(ReadSequence(dir / "scan", io), FeatureOptions(), run, &subset);
+  EXPECT_EQ(subset.frames_cached, 2);
+  ExpectSameFeatures(tail.frames[0], a.frames[2]);
+  FeatureOptions other;
+  other.min_spacing = 0.1;
+  ExtractFeatures(seq, other, run, &third);
+  EXPECT_EQ(third.frames_cached, 0);
+  EXPECT_EQ(third.frames_computed, 4);
+}
+
+TEST(ExtractFeatures, ACorruptCacheIsRecomputedAndAMissingIntrinsicIsAnError) {
+  const fs::path dir = testing::FreshTempDir("feature_set_corrupt");
+  const RgbdSequence seq = WriteSequence(dir / "scan", 2);
+  FeatureRun run;
+  run.quiet = true;
+  run.cache_file = dir / "features.f2cf";
+  WriteFileAtomic(run.cache_file, "F2CFEAT");
+  FeatureTimings t;
+  const FeatureSet set = ExtractFeatures(seq, FeatureOptions(), run, &t);
+  EXPECT_EQ(t.frames_computed, 2);
+  EXPECT_GT(set.frames[0].features.size(), 100u);
+  uint64_t context = 0;
+  EXPECT_EQ(ReadFeatureCache(run.cache_file, &context).size(), 2u);  // rewritten
+
+  const RgbdSequence no_k = ReadSequence(dir / "scan");
+  EXPECT_EQ(testing::InputErrorMessage([&] { ExtractFeatures(no_k, FeatureOptions(), FeatureRun()); }),
+            (dir / "scan").string() +
+                ": no intrinsics: pass --intrinsics (a preset: tum-fr1, tum-fr2, tum-fr3, primesense; or fx,fy,cx,cy)");
+}
+
+}  // namespace
+}  // namespace f2c
