@@ -7,10 +7,15 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <opencv2/core/version.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <tbb/parallel_for.h>
 
+#include "apps/feature_views.h"
 #include "f2c/eval/trajectory_error.h"
+#include "f2c/features/feature_set.h"
 #include "f2c/io/conf.h"
 #include "f2c/io/image.h"
+#include "f2c/io/ply.h"
 #include "f2c/sim/simulate.h"
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
@@ -80,6 +85,20 @@ int RunRegister(const RegisterArgs& args) {
                odometry.pairs.size(), stats["sift"].get<int>(), stats["icp"].get<int>(),
                stats["motion_prior"].get<int>(), odometry.timings.wall);
 
+  json feature_stage = nullptr, feature_stats = nullptr;
+  if (args.extract_features) {
+    FeatureRun feature_run;
+    feature_run.quiet = args.quiet;
+    if (args.use_cache) feature_run.cache_file = out / "cache" / "features.f2cf";
+    FeatureTimings timings;
+    const FeatureSet features = ExtractFeatures(seq, args.features, feature_run, &timings);
+    feature_stage = ToJson(timings, static_cast<int>(seq.frames.size()));
+    feature_stats = FeatureStatistics(features);
+    spdlog::info("features: {:.0f} per frame, {:.1f} proxies per frame, in {:.1f} s",
+                 feature_stats["per_frame"]["features"].get<double>(),
+                 feature_stats["per_frame"]["proxies"].get<double>(), timings.wall);
+  }
+
   WriteTumTrajectory(out / "trajectory.txt", odometry.t0);
   WriteLogTrajectory(out / "trajectory.log", odometry.t0);
   WriteConf(out / "trajectory.conf", seq, odometry.t0);
@@ -92,11 +111,16 @@ int RunRegister(const RegisterArgs& args) {
       {"frames", seq.frames.size()},
       {"intrinsics", {{"fx", k.fx}, {"fy", k.fy}, {"cx", k.cx}, {"cy", k.cy}, {"source", seq.intrinsics_source}}},
       {"versions", Versions()},
-      {"options", {{"io", ToJson(args.io)}, {"odometry", ToJson(args.odometry)}, {"cache", args.use_cache}}},
+      {"options",
+       {{"io", ToJson(args.io)},
+        {"odometry", ToJson(args.odometry)},
+        {"features", args.extract_features ? ToJson(args.features) : json(nullptr)},
+        {"cache", args.use_cache}}},
       {"stages",
        {{"read", {{"wall_s", read_s}}},
-        {"odometry", ToJson(odometry.timings, static_cast<int>(seq.frames.size()))}}},
-      {"statistics", {{"odometry", stats}}},
+        {"odometry", ToJson(odometry.timings, static_cast<int>(seq.frames.size()))},
+        {"features", feature_stage}}},
+      {"statistics", {{"odometry", stats}, {"features", feature_stats}}},
       {"total_wall_s", total.Seconds()},
       {"outputs", {"trajectory.txt", "trajectory.log", "trajectory.conf", "odometry.json"}},
   };
@@ -105,6 +129,53 @@ int RunRegister(const RegisterArgs& args) {
               (out / "trajectory.txt").string().c_str());
   std::printf("%zu frames in %.1f s (%.1f frames/s)\n", seq.frames.size(), total.Seconds(),
               seq.frames.size() / total.Seconds());
+  return 0;
+}
+
+int RunFeatures(const FeaturesArgs& args) {
+  const fs::path out = args.output;
+  EnsureWritableDirectory(out);
+  const RgbdSequence seq = ReadSequence(args.input, args.io);
+  spdlog::info("{}: {} layout, {} frames", args.input, LayoutName(seq.layout), seq.frames.size());
+  FeatureRun run;
+  run.quiet = args.quiet;
+  run.cache_file = out / "features.f2cf";  // the output, reused by the next run with the same inputs
+  FeatureTimings timings;
+  const FeatureSet set = ExtractFeatures(seq, args.features, run, &timings);
+  const int n = static_cast<int>(seq.frames.size());
+  if (args.images || args.ply) {
+    if (args.images) fs::create_directories(out / "images");
+    if (args.ply) fs::create_directories(out / "ply");
+    const CameraIntrinsics& k = *seq.intrinsics;
+    tbb::parallel_for(0, n, [&](int i) {
+      const std::string name = fmt::format("{:06d}", i);
+      if (args.ply) WritePly(out / "ply" / (name + ".ply"), FeaturesToPly(set.frames[i]));
+      if (args.images) {
+        // The picture needs the grid and labels, which the cache does not keep: recompute.
+        FeatureDebug debug;
+        const FrameFeatures f = ExtractFrameFeatures(LoadDepthMeters(seq, seq.frames[i]), k, args.features, &debug);
+        const fs::path path = out / "images" / (name + ".png");
+        const fs::path tmp = path.string() + ".tmp.png";
+        if (!cv::imwrite(tmp.string(), DrawFeatures(f, debug, k))) ThrowInputError(path, "cannot write image");
+        fs::rename(tmp, path);
+      }
+    });
+  }
+  const json stats = FeatureStatistics(set);
+  const json report = {{"input", fs::absolute(args.input).string()},
+                       {"layout", LayoutName(seq.layout)},
+                       {"frames", n},
+                       {"versions", Versions()},
+                       {"options", {{"io", ToJson(args.io)}, {"features", ToJson(args.features)}}},
+                       {"timings", ToJson(timings, n)},
+                       {"statistics", stats}};
+  WriteFileAtomic(out / "features.json", report.dump(2) + "\n");
+  std::printf("wrote %s (%d frames)%s%s, features.json\n", run.cache_file.string().c_str(), n,
+              args.images ? ", images/" : "", args.ply ? ", ply/" : "");
+  std::printf("per frame:");
+  for (const auto& [type, count] : stats["per_frame"].items()) std::printf(" %s %.1f", type.c_str(), count.get<double>());
+  std::printf("\n%d frames computed, %d from cache; extraction %.2f ms per frame per core\n", timings.frames_computed,
+              timings.frames_cached, timings.frames_computed ? 1000.0 * timings.extract / timings.frames_computed : 0.0);
   return 0;
 }
 

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "f2c/features/depth_features.h"
 #include "f2c/io/sequence.h"
 #include "f2c/odometry/odometry.h"
 
@@ -14,10 +15,23 @@ struct RegisterArgs {
   std::string output;
   IoOptions io;
   OdometryOptions odometry;
+  FeatureOptions features;
+  bool extract_features = true;  // the refinement's input; cached in OUTDIR/cache/features.f2cf
   bool use_cache = true;
   bool quiet = false;
 };
 int RunRegister(const RegisterArgs& args);
+
+struct FeaturesArgs {
+  std::string input;
+  std::string output;
+  IoOptions io;
+  FeatureOptions features;
+  bool images = false;  // OUTDIR/images/NNNNNN.png: proxies and features drawn per frame
+  bool ply = false;     // OUTDIR/ply/NNNNNN.ply: feature points per frame, camera coordinates
+  bool quiet = false;
+};
+int RunFeatures(const FeaturesArgs& args);
 
 struct EvaluateArgs {
   std::string estimate;

@@ -1,6 +1,7 @@
 // fine2coarse: RGB-D sequence -> camera poses (and, as the pipeline grows, mesh and report).
 //
 //   fine2coarse register INPUT -o OUTDIR [options]
+//   fine2coarse features INPUT -o OUTDIR [--images] [--ply]
 //   fine2coarse evaluate --estimate FILE --ground-truth FILE_OR_DATASET [--json]
 //   fine2coarse info INPUT
 //
@@ -23,6 +24,26 @@ void AddFrameSelection(CLI::App* cmd, f2c::IoOptions* io) {
   cmd->add_option("--every", io->every, "use every N-th frame")->check(CLI::PositiveNumber);
   cmd->add_option("--first", io->first, "first frame (0-based)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--last", io->last, "last frame, inclusive (-1: the end)");
+}
+
+void AddFeatureOptions(CLI::App* cmd, f2c::FeatureOptions* f) {
+  const std::string group = "Features (paper 4.1; DESIGN.md section 2)";
+  auto add = [&](const std::string& name, auto* value, const std::string& help) {
+    cmd->add_option(name, *value, help)->capture_default_str()->group(group);
+  };
+  add("--feature-step", &f->grid.step, "pixels per grid cell of the feature extraction");
+  add("--feature-max-depth", &f->grid.max_depth, "farthest depth used for features (m)");
+  add("--normal-radius", &f->grid.normal_radius, "normals: neighbours within this distance (m)");
+  add("--normal-radius-pixels", &f->grid.normal_radius_pixels, "normals: neighbours within this many pixels");
+  add("--min-spacing", &f->min_spacing, "features of one type at least this far apart (m)");
+  add("--proxy-min-points", &f->proxies.min_points, "smallest planar proxy (grid cells)");
+  add("--proxy-max-distance", &f->proxies.max_distance, "clusters merge when their planes are this close (m)");
+  add("--proxy-max-angle", &f->proxies.max_normal_angle, "...and their normals this close (radians)");
+  add("--edge-jump-fraction", &f->edge_jump_fraction, "contours: depth jump above this fraction of depth...");
+  add("--edge-min-jump", &f->edge_min_jump, "...and at least this many metres");
+  add("--crease-angle", &f->crease_angle, "ridges/valleys where proxies meet at more than this (radians)");
+  cmd->add_flag("--bilateral", f->grid.bilateral, "bilateral-filter depth first (noisy sensors, e.g. SUN3D)")
+      ->group(group);
 }
 
 }  // namespace
@@ -65,10 +86,24 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   reg_cmd->add_option("--min-inliers", od.min_inliers, "fewer SIFT inliers fall back to ICP")
       ->capture_default_str();
-  bool no_icp = false, no_cache = false;
+  AddFeatureOptions(reg_cmd, &reg.features);
+  bool no_icp = false, no_cache = false, no_features = false;
+  reg_cmd->add_flag("--no-features", no_features, "skip the feature extraction (T0 only)");
   reg_cmd->add_flag("--no-icp-fallback", no_icp, "never use depth-only ICP");
   reg_cmd->add_flag("--no-cache", no_cache, "ignore and do not write OUTDIR/cache");
   reg_cmd->add_flag("-q,--quiet", reg.quiet, "no progress output");
+
+  f2c::app::FeaturesArgs feat;
+  CLI::App* feat_cmd = app.add_subcommand(
+      "features", "extract planar proxies and plane/edge features of every frame into "
+                  "OUTDIR/features.f2cf (reused when inputs and options match) and features.json");
+  feat_cmd->add_option("INPUT", feat.input, "dataset folder or .conf")->required();
+  feat_cmd->add_option("-o,--output", feat.output, "output folder")->required();
+  AddFrameSelection(feat_cmd, &feat.io);
+  AddFeatureOptions(feat_cmd, &feat.features);
+  feat_cmd->add_flag("--images", feat.images, "also draw each frame's proxies and features to OUTDIR/images/");
+  feat_cmd->add_flag("--ply", feat.ply, "also write each frame's features as points to OUTDIR/ply/");
+  feat_cmd->add_flag("-q,--quiet", feat.quiet, "no progress output");
 
   f2c::app::EvaluateArgs eval;
   CLI::App* eval_cmd = app.add_subcommand(
@@ -123,11 +158,13 @@ int main(int argc, char** argv) {
     app.exit(e);
     return 2;
   }
-  if (reg.quiet || sim.quiet) spdlog::set_level(spdlog::level::warn);
+  if (reg.quiet || sim.quiet || feat.quiet) spdlog::set_level(spdlog::level::warn);
   reg.odometry.icp_fallback = !no_icp;
+  reg.extract_features = !no_features;
   reg.use_cache = !no_cache;
   try {
     if (*reg_cmd) return f2c::app::RunRegister(reg);
+    if (*feat_cmd) return f2c::app::RunFeatures(feat);
     if (*eval_cmd) return f2c::app::RunEvaluate(eval);
     if (*info_cmd) return f2c::app::RunInfo(info);
     if (*sim_cmd) return f2c::app::RunSimulate(sim);

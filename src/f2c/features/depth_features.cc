@@ -53,35 +53,56 @@ struct Candidate {
   int32_t proxy;
 };
 
-// Keeps candidates in order of salience (ties: grid order) unless one already kept lies
-// within `spacing`: a greedy Poisson-disk selection on a hash grid of `spacing` cells.
-std::vector<Candidate> SelectSpaced(std::vector<Candidate> candidates, double spacing) {
-  std::stable_sort(candidates.begin(), candidates.end(),
-                   [](const Candidate& a, const Candidate& b) { return a.salience > b.salience; });
-  if (spacing <= 0) return candidates;
-  auto key = [](int64_t x, int64_t y, int64_t z) {
-    return static_cast<uint64_t>((x * 73856093) ^ (y * 19349663) ^ (z * 83492791));
+// Well-spaced selection in two passes, both on a hash grid of `spacing`-sized voxels:
+// first the most salient candidate of each voxel (ties: grid order), then those
+// representatives in order of salience, each kept unless one already kept lies within
+// `spacing`. Greedy over all candidates would give the same guarantee with ~30x more hash
+// look-ups; the cost is a somewhat sparser sampling (gaps up to about 2 spacings).
+std::vector<Candidate> SelectSpaced(const std::vector<Candidate>& candidates, double spacing) {
+  if (spacing <= 0) {
+    std::vector<Candidate> all = candidates;
+    std::stable_sort(all.begin(), all.end(), [](const Candidate& a, const Candidate& b) { return a.salience > b.salience; });
+    return all;
+  }
+  auto voxel = [&](const Vec3f& p) {
+    return Eigen::Vector3i(static_cast<int>(std::floor(p.x() / spacing)), static_cast<int>(std::floor(p.y() / spacing)),
+                           static_cast<int>(std::floor(p.z() / spacing)));
   };
-  std::unordered_multimap<uint64_t, Vec3f> kept_at;
+  auto key = [](const Eigen::Vector3i& v) {
+    return (static_cast<uint64_t>(static_cast<uint32_t>(v.x()) & 0x1FFFFF) << 42) |
+           (static_cast<uint64_t>(static_cast<uint32_t>(v.y()) & 0x1FFFFF) << 21) |
+           (static_cast<uint64_t>(static_cast<uint32_t>(v.z()) & 0x1FFFFF));
+  };
+  std::unordered_map<uint64_t, int> best;
+  best.reserve(candidates.size() / 4 + 16);
+  for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
+    auto [it, inserted] = best.try_emplace(key(voxel(candidates[i].position)), i);
+    if (!inserted && candidates[i].salience > candidates[it->second].salience) it->second = i;
+  }
+  std::vector<int> order;
+  order.reserve(best.size());
+  for (const auto& entry : best) order.push_back(entry.second);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return candidates[a].salience != candidates[b].salience ? candidates[a].salience > candidates[b].salience : a < b;
+  });
+  std::unordered_map<uint64_t, int> kept_at;  // voxel -> kept candidate (at most one per voxel)
+  kept_at.reserve(order.size() + 16);
   std::vector<Candidate> kept;
   const float s2 = static_cast<float>(spacing * spacing);
-  for (const Candidate& c : candidates) {
-    const int64_t cx = static_cast<int64_t>(std::floor(c.position.x() / spacing));
-    const int64_t cy = static_cast<int64_t>(std::floor(c.position.y() / spacing));
-    const int64_t cz = static_cast<int64_t>(std::floor(c.position.z() / spacing));
+  for (int i : order) {
+    const Candidate& c = candidates[i];
+    const Eigen::Vector3i v = voxel(c.position);
     bool near = false;
     for (int dx = -1; dx <= 1 && !near; ++dx) {
       for (int dy = -1; dy <= 1 && !near; ++dy) {
         for (int dz = -1; dz <= 1 && !near; ++dz) {
-          auto range = kept_at.equal_range(key(cx + dx, cy + dy, cz + dz));
-          for (auto it = range.first; it != range.second && !near; ++it) {
-            near = (it->second - c.position).squaredNorm() < s2;
-          }
+          const auto it = kept_at.find(key(v + Eigen::Vector3i(dx, dy, dz)));
+          near = it != kept_at.end() && (candidates[it->second].position - c.position).squaredNorm() < s2;
         }
       }
     }
     if (near) continue;
-    kept_at.emplace(key(cx, cy, cz), c.position);
+    kept_at.emplace(key(v), i);
     kept.push_back(c);
   }
   return kept;
@@ -268,7 +289,7 @@ FrameFeatures ExtractFrameFeatures(const cv::Mat& depth, const CameraIntrinsics&
   }
 
   for (int t = 0; t < kFeatureTypeCount; ++t) {
-    for (const Candidate& c : SelectSpaced(std::move(by_type[t]), o.min_spacing)) {
+    for (const Candidate& c : SelectSpaced(by_type[t], o.min_spacing)) {
       Feature f;
       f.type = static_cast<FeatureType>(t);
       f.position = c.position;
