@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "f2c/features/feature_set.h"
+#include "f2c/io/ply.h"
 #include "f2c/io/trajectory.h"
 #include "f2c/testing/synthetic_scene.h"
 #include "f2c/util/file.h"
@@ -48,7 +50,7 @@ fs::path SyntheticTum(const std::string& name, int n) {
 }
 
 TEST(Cli, HelpOnEverySubcommand) {
-  for (const char* cmd : {"", "register ", "evaluate ", "info "}) {
+  for (const char* cmd : {"", "register ", "features ", "evaluate ", "info ", "simulate ", "demo "}) {
     const Result r = RunCli(std::string(cmd) + "--help");
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.output.find("Usage"), std::string::npos) << r.output;
@@ -103,6 +105,39 @@ TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
   const Result log = RunCli("evaluate --estimate " + (out / "trajectory.log").string() + " --ground-truth " + dir.string());
   EXPECT_EQ(log.code, 0) << log.output;
   EXPECT_NE(log.output.find("5 of 5 poses associated"), std::string::npos) << log.output;
+}
+
+TEST(Cli, FeaturesWritesTheCacheImagesAndPointSetsAndReusesTheCache) {
+  const fs::path dir = SyntheticTum("cli_features", 3);
+  const fs::path out = testing::FreshTempDir("cli_features_out");
+  const std::string command = "features " + dir.string() + " --intrinsics primesense -q --images --ply -o " + out.string();
+  const Result r = RunCli(command);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("3 frames computed, 0 from cache"), std::string::npos) << r.output;
+  uint64_t context = 0;
+  const std::vector<FeatureCacheEntry> cache = ReadFeatureCache(out / "features.f2cf", &context);
+  ASSERT_EQ(cache.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    const std::string name = "00000" + std::to_string(i);
+    EXPECT_TRUE(fs::exists(out / "images" / (name + ".png"))) << name;
+    // The point set holds the frame's features, in the cache's order.
+    const PlyPoints ply = ReadPly(out / "ply" / (name + ".ply"));
+    ASSERT_EQ(ply.positions.size(), cache[i].features.features.size());
+    EXPECT_EQ(ply.positions.front(), cache[i].features.features.front().position);
+  }
+  EXPECT_TRUE(fs::exists(out / "features.json"));
+  const Result again = RunCli(command);
+  EXPECT_NE(again.output.find("0 frames computed, 3 from cache"), std::string::npos) << again.output;
+  // register extracts them too, into its own cache.
+  const fs::path reg = testing::FreshTempDir("cli_features_register");
+  ASSERT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q -o " + reg.string()).code, 0);
+  EXPECT_EQ(ReadFeatureCache(reg / "cache" / "features.f2cf", &context).size(), 3u);
+
+  const Result no_k = RunCli("features " + dir.string() + " -q -o " + out.string());
+  EXPECT_EQ(no_k.code, 1);
+  EXPECT_EQ(no_k.output, "error: " + dir.string() +
+                             ": no intrinsics: pass --intrinsics (a preset: tum-fr1, tum-fr2, tum-fr3, primesense; "
+                             "or fx,fy,cx,cy)\n");
 }
 
 TEST(Cli, CorruptFrameExitsOneNamingTheFile) {
