@@ -8,6 +8,7 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <string_view>
 #include <nlohmann/json.hpp>
 
 #include "f2c/io/image.h"
@@ -42,7 +43,7 @@ class Writer {
 
 class Reader {
  public:
-  Reader(const std::filesystem::path& path, std::string bytes) : path_(path), bytes_(std::move(bytes)) {}
+  Reader(const std::filesystem::path& path, std::string_view bytes) : path_(path), bytes_(bytes) {}
   template <typename T>
   T Get() {
     Need(sizeof(T));
@@ -56,7 +57,7 @@ class Reader {
   }
   std::string GetBytes(size_t n) {
     Need(n);
-    std::string s = bytes_.substr(at_, n);
+    std::string s(bytes_.substr(at_, n));
     at_ += n;
     return s;
   }
@@ -74,7 +75,7 @@ class Reader {
   }
   [[noreturn]] void Truncated() { ThrowInputError(path_, "feature cache is truncated or corrupt"); }
   std::filesystem::path path_;
-  std::string bytes_;
+  std::string_view bytes_;  // owned by the caller
   size_t at_ = 0;
 };
 
@@ -159,7 +160,8 @@ void WriteFeatureCache(const std::filesystem::path& path, uint64_t context_hash,
 }
 
 std::vector<FeatureCacheEntry> ReadFeatureCache(const std::filesystem::path& path, uint64_t* context_hash) {
-  Reader r(path, ReadFileToString(path));
+  const std::string bytes = ReadFileToString(path);
+  Reader r(path, bytes);
   if (r.GetBytes(sizeof(kMagic)) != std::string(kMagic, sizeof(kMagic))) {
     ThrowInputError(path, "not a fine2coarse feature cache");
   }

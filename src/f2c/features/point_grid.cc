@@ -90,6 +90,7 @@ PointGrid BuildPointGrid(const cv::Mat& depth, const CameraIntrinsics& k, const 
   g.points.assign(n, Eigen::Vector3f::Zero());
   g.normals.assign(n, Eigen::Vector3f::Zero());
   g.curvature.assign(n, 0.0f);
+  g.residual.assign(n, 0.0f);
   for (int y = 0; y < g.height; ++y) {
     for (int x = 0; x < g.width; ++x) {
       const int u = g.PixelU(x), v = g.PixelV(y);
@@ -130,6 +131,7 @@ PointGrid BuildPointGrid(const cv::Mat& depth, const CameraIntrinsics& k, const 
       if (normal.dot(c.cast<double>()) > 0) normal = -normal;  // towards the camera
       g.normals[i] = normal.cast<float>();
       g.curvature[i] = static_cast<float>(curvature);
+      g.residual[i] = static_cast<float>(std::sqrt(curvature * cov.trace()));
     }
   }
   return g;

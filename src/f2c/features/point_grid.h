@@ -40,6 +40,7 @@ struct PointGrid {
   std::vector<Eigen::Vector3f> points;
   std::vector<Eigen::Vector3f> normals;
   std::vector<float> curvature;
+  std::vector<float> residual;  // sqrt(lambda_min): RMS distance of the neighbours to the fit (m)
 
   int Index(int x, int y) const { return y * width + x; }
   bool Valid(int i) const { return points[i].z() > 0; }

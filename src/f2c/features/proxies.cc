@@ -17,6 +17,8 @@ void ProxyOptions::Check() const {
   if (!(max_normal_angle > 0 && max_normal_angle < M_PI / 2)) fail("max_normal_angle", "must be in (0, pi/2)");
   if (!(max_rms_a > 0 && max_rms_b >= 0)) fail("max_rms", "need max_rms_a > 0 and max_rms_b >= 0");
   if (!(max_curvature > 0)) fail("max_curvature", "must be positive");
+  if (!(sensor_sigma_a >= 0 && sensor_sigma_b >= 0 && flat_noise_ratio >= 0)) fail("sensor_sigma", "must be >= 0");
+  if (!(trim_sigmas > 0 && min_trim_sigma > 0) || trim_iterations < 0) fail("trim", "need positive sigmas, iterations >= 0");
   if (!(min_width >= 0)) fail("min_width", "must be >= 0");
 }
 
@@ -50,7 +52,12 @@ struct Edge {
 ProxySegmentation ExtractProxies(const PointGrid& g, const ProxyOptions& o) {
   o.Check();
   const int n = g.width * g.height;
-  auto Member = [&](int i) { return g.HasNormal(i) && g.curvature[i] <= o.max_curvature; };
+  auto Member = [&](int i) {
+    if (!g.HasNormal(i)) return false;
+    if (g.curvature[i] <= o.max_curvature) return true;
+    const double dz = g.points[i].z() - 0.4;
+    return g.residual[i] <= o.flat_noise_ratio * (o.sensor_sigma_a + o.sensor_sigma_b * dz * dz);
+  };
   std::vector<Cluster> clusters(n);
   for (int i = 0; i < n; ++i) {
     clusters[i].parent = i;
@@ -113,45 +120,94 @@ ProxySegmentation ExtractProxies(const PointGrid& g, const ProxyOptions& o) {
     }
   }
 
-  // Proxies: large enough clusters, largest first (ties: the lower root cell).
-  std::vector<int> roots;
-  for (int i = 0; i < n; ++i) {
-    if (clusters[i].parent == i && clusters[i].count >= o.min_points) roots.push_back(i);
-  }
-  std::stable_sort(roots.begin(), roots.end(), [&](int a, int b) { return clusters[a].count > clusters[b].count; });
-  std::vector<int> proxy_of_root(n, -1);
-  ProxySegmentation out;
-  out.labels.assign(n, -1);
-  std::vector<Eigen::Matrix3d> axes;
-  for (int root : roots) {
-    const Cluster& c = clusters[root];
-    const Eigen::Vector3d centroid = c.Centroid();
-    const Eigen::Matrix3d cov = c.sum2 / c.count - centroid * centroid.transpose();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-    if (std::sqrt(std::max(0.0, eig.eigenvalues()(1))) < o.min_width) continue;
-    Eigen::Vector3d normal = eig.eigenvectors().col(0);
-    if (normal.dot(centroid) > 0) normal = -normal;
-    PlanarProxy p;
-    p.normal = normal.cast<float>();
-    p.offset = static_cast<float>(normal.dot(centroid));
-    p.centroid = centroid.cast<float>();
-    p.covariance = cov.cast<float>();
-    p.rms = static_cast<float>(std::sqrt(std::max(0.0, eig.eigenvalues()(0))));
-    p.inliers = c.count;
-    proxy_of_root[root] = static_cast<int>(out.proxies.size());
-    out.proxies.push_back(p);
-    axes.push_back(eig.eigenvectors());
-  }
+  // Members of each large enough cluster, in cell order.
+  std::vector<int> slot(n, -1);
+  std::vector<std::vector<int>> members;
   for (int i = 0; i < n; ++i) {
     if (!Member(i)) continue;
-    const int proxy = proxy_of_root[Find(clusters, i)];
-    if (proxy < 0) continue;
-    out.labels[i] = proxy;
-    PlanarProxy& p = out.proxies[proxy];
-    const Eigen::Vector3d d = (g.points[i] - p.centroid).cast<double>();
-    const Eigen::Matrix3d& axis = axes[proxy];
-    p.extent.x() = std::max(p.extent.x(), static_cast<float>(std::abs(d.dot(axis.col(2)))));
-    p.extent.y() = std::max(p.extent.y(), static_cast<float>(std::abs(d.dot(axis.col(1)))));
+    const int root = Find(clusters, i);
+    if (clusters[root].count < o.min_points) continue;
+    if (slot[root] < 0) slot[root] = static_cast<int>(members.size()), members.emplace_back();
+    members[slot[root]].push_back(i);
+  }
+
+  struct Fit {
+    Eigen::Vector3d centroid, normal;
+    Eigen::Matrix3d covariance, axes;
+    double rms;
+  };
+  auto fit = [&](const std::vector<int>& cells) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d sum2 = Eigen::Matrix3d::Zero();
+    for (int i : cells) {
+      const Eigen::Vector3d p = g.points[i].cast<double>();
+      sum += p;
+      sum2 += p * p.transpose();
+    }
+    Fit f;
+    f.centroid = sum / cells.size();
+    f.covariance = sum2 / cells.size() - f.centroid * f.centroid.transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(f.covariance);
+    f.axes = eig.eigenvectors();
+    f.normal = f.axes.col(0);
+    if (f.normal.dot(f.centroid) > 0) f.normal = -f.normal;
+    f.rms = std::sqrt(std::max(0.0, eig.eigenvalues()(0)));
+    return f;
+  };
+
+  struct Result {
+    Fit fit;
+    std::vector<int> cells;
+  };
+  std::vector<Result> results;
+  std::vector<double> distance;
+  for (std::vector<int>& cells : members) {
+    Fit f = fit(cells);
+    for (int iteration = 0; iteration < o.trim_iterations; ++iteration) {
+      distance.resize(cells.size());
+      for (size_t k = 0; k < cells.size(); ++k) {
+        distance[k] = std::abs(f.normal.dot(g.points[cells[k]].cast<double>() - f.centroid));
+      }
+      std::vector<double> sorted = distance;
+      std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+      const double sigma = std::max(1.4826 * sorted[sorted.size() / 2], o.min_trim_sigma);
+      std::vector<int> kept;
+      for (size_t k = 0; k < cells.size(); ++k) {
+        if (distance[k] <= o.trim_sigmas * sigma) kept.push_back(cells[k]);
+      }
+      if (kept.size() == cells.size()) break;
+      cells = std::move(kept);
+      if (static_cast<int>(cells.size()) < o.min_points) break;
+      f = fit(cells);
+    }
+    if (static_cast<int>(cells.size()) < o.min_points) continue;
+    // A proxy must span a surface, not a line of cells.
+    const double width = std::sqrt(std::max(0.0, f.axes.col(1).dot(f.covariance * f.axes.col(1))));
+    if (width < o.min_width) continue;
+    results.push_back({f, std::move(cells)});
+  }
+  // Largest first; ties keep cell order (the order of the clusters' first cells).
+  std::stable_sort(results.begin(), results.end(),
+                   [](const Result& a, const Result& b) { return a.cells.size() > b.cells.size(); });
+
+  ProxySegmentation out;
+  out.labels.assign(n, -1);
+  for (const Result& r : results) {
+    const int index = static_cast<int>(out.proxies.size());
+    PlanarProxy p;
+    p.normal = r.fit.normal.cast<float>();
+    p.offset = static_cast<float>(r.fit.normal.dot(r.fit.centroid));
+    p.centroid = r.fit.centroid.cast<float>();
+    p.covariance = r.fit.covariance.cast<float>();
+    p.rms = static_cast<float>(r.fit.rms);
+    p.inliers = static_cast<int32_t>(r.cells.size());
+    for (int i : r.cells) {
+      out.labels[i] = index;
+      const Eigen::Vector3d d = g.points[i].cast<double>() - r.fit.centroid;
+      p.extent.x() = std::max(p.extent.x(), static_cast<float>(std::abs(d.dot(r.fit.axes.col(2)))));
+      p.extent.y() = std::max(p.extent.y(), static_cast<float>(std::abs(d.dot(r.fit.axes.col(1)))));
+    }
+    out.proxies.push_back(p);
   }
   return out;
 }

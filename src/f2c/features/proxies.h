@@ -27,9 +27,21 @@ struct ProxyOptions {
   double max_normal_angle = 0.7853981633974483;  // radians, pi/4 (DESIGN.md)
   double max_rms_a = 0.005;                    // metres
   double max_rms_b = 0.004;                    // metres per square metre of depth
-  // Cells whose own neighbourhood is not flat (curvature above this: creases, contours,
-  // clutter) join no cluster; otherwise their blended normals grow strips along creases.
+  // Only flat cells join clusters; otherwise the blended normals of cells on creases and
+  // contours grow strips along them. A cell is flat when its curvature is at most
+  // max_curvature, or when its fit residual is explained by the sensor's depth noise:
+  // residual <= flat_noise_ratio sigma(z), sigma(z) = sensor_sigma_a + sensor_sigma_b (z - 0.4)^2
+  // (Kinect v1 / Xtion, Nguyen et al. 2012). Noise-free depth needs only the first test.
   double max_curvature = 0.02;
+  double sensor_sigma_a = 0.0012;  // metres
+  double sensor_sigma_b = 0.0019;  // metres per square metre
+  double flat_noise_ratio = 1.5;
+  // Robust refit: members farther from their proxy's plane than trim_sigmas robust standard
+  // deviations (1.4826 MAD, at least min_trim_sigma metres) are dropped and the plane refitted,
+  // up to trim_iterations times (cells of a neighbouring surface that joined at a crease).
+  double trim_sigmas = 3.0;
+  double min_trim_sigma = 0.001;
+  int trim_iterations = 2;
   // A proxy must be a surface, not a line of points: its second principal axis at least
   // this standard deviation (metres).
   double min_width = 0.01;
