@@ -300,7 +300,14 @@ FrameFeatures ExtractFrameFeatures(const cv::Mat& depth, const CameraIntrinsics&
       out.features.push_back(f);
     }
   }
-  if (out.proxies.empty()) out.note = "no planar region";
+  // Partial results say why (one note, the most telling).
+  const int edges = out.Count(FeatureType::kSilhouette) + out.Count(FeatureType::kShadow) +
+                    out.Count(FeatureType::kRidge) + out.Count(FeatureType::kValley);
+  if (out.proxies.empty()) {
+    out.note = "no planar region";
+  } else if (edges == 0) {
+    out.note = "no depth edges or creases";
+  }
   if (debug) {
     debug->grid = std::move(g);
     debug->labels = label;

@@ -56,7 +56,9 @@ struct FeatureOptions {
 struct FrameFeatures {
   std::vector<PlanarProxy> proxies;
   std::vector<Feature> features;   // grouped by type, in FeatureType order
-  std::string note;                // why a frame has no or few features; empty otherwise
+  // Why a frame has no or only some kinds of features, empty otherwise: "no valid depth",
+  // "no planar region", "no depth edges or creases".
+  std::string note;
   int Count(FeatureType type) const;
 };
 

@@ -234,6 +234,18 @@ TEST(ExtractFrameFeatures, BadFramesGiveEmptyOrPartialResultsWithAReason) {
   EXPECT_EQ(wall.proxies.size(), 1u);
   EXPECT_GT(wall.Count(FeatureType::kPlane), 0);
   EXPECT_EQ(wall.Count(FeatureType::kSilhouette) + wall.Count(FeatureType::kRidge) + wall.Count(FeatureType::kValley), 0);
+  EXPECT_EQ(wall.note, "no depth edges or creases");
+  // Depth at isolated sample pixels 40 px apart: points (the ones on the image border are
+  // border features), but no normals, so nothing planar.
+  cv::Mat sparse = cv::Mat::zeros(480, 640, CV_32F);
+  for (int v = 2; v < 480; v += 40) {
+    for (int u = 2; u < 640; u += 40) sparse.at<float>(v, u) = 2.0f;
+  }
+  const FrameFeatures dots = ExtractFrameFeatures(sparse, k, FeatureOptions());
+  EXPECT_TRUE(dots.proxies.empty());
+  EXPECT_EQ(dots.Count(FeatureType::kPlane), 0);
+  EXPECT_GT(dots.Count(FeatureType::kBorder), 0);
+  EXPECT_EQ(dots.note, "no planar region");
 }
 
 }  // namespace

@@ -235,10 +235,16 @@ FeatureSet ExtractFeatures(const RgbdSequence& seq, const FeatureOptions& option
     progress.Advance();
   });
   progress.Finish();
+  // One log line per kind of note (a scan of a blank wall would otherwise print a line per
+  // frame), naming how many frames and the first of them.
+  std::map<std::string, std::pair<int, int>> notes;  // note -> (frames, first frame)
   for (int i = 0; i < n; ++i) {
-    if (!have[i] && !set.frames[i].note.empty()) {
-      spdlog::warn("features: {}: {}", seq.frames[i].depth_path.string(), set.frames[i].note);
-    }
+    if (have[i] || set.frames[i].note.empty()) continue;
+    auto [it, inserted] = notes.try_emplace(set.frames[i].note, 0, i);
+    ++it->second.first;
+  }
+  for (const auto& [note, where] : notes) {
+    spdlog::warn("features: {} in {} frame(s), first {}", note, where.first, seq.frames[where.second].depth_path.string());
   }
   t.frames_computed = n - t.frames_cached;
   if (cached && t.frames_computed > 0) {
