@@ -1,7 +1,7 @@
 #include "f2c/features/point_grid.h"
 
 #include <cmath>
-#include <opencv2/imgproc.hpp>
+#include <optional>
 #include <string>
 
 #include "f2c/util/error.h"
@@ -30,22 +30,61 @@ float ValidDepth(float z, const PointGridOptions& o) {
   return std::isfinite(z) && z >= o.min_depth && z <= o.max_depth ? z : 0.0f;
 }
 
-// Only needed for the bilateral filter: otherwise the grid samples its pixels directly.
-cv::Mat FilteredDepth(const cv::Mat& depth, const PointGridOptions& o) {
-  cv::Mat clean(depth.size(), CV_32F);
-  for (int v = 0; v < depth.rows; ++v) {
-    const float* in = depth.ptr<float>(v);
-    float* out = clean.ptr<float>(v);
-    for (int u = 0; u < depth.cols; ++u) out[u] = ValidDepth(in[u], o);
+// The bilateral filter evaluated only at the pixels the grid samples, over every second
+// neighbour in each direction (a 2x subsampled kernel: still ~50 samples at the default
+// sigma): the grid never looks at the other pixels, and a full-image bilateral filter cost
+// ~90 ms per VGA frame (17 ms with the full kernel at the samples). Missing depth gets no
+// weight; the range weight comes from a table (an exp per neighbour would dominate).
+class SampledBilateral {
+ public:
+  SampledBilateral(const cv::Mat& depth, const PointGridOptions& o)
+      : depth_(depth), o_(o), radius_(static_cast<int>(std::ceil(2 * o.bilateral_sigma_pixels))) {
+    const int side = 2 * radius_ + 1;
+    spatial_.resize(side * side);
+    for (int dv = -radius_; dv <= radius_; ++dv) {
+      for (int du = -radius_; du <= radius_; ++du) {
+        spatial_[(dv + radius_) * side + du + radius_] =
+            static_cast<float>(std::exp(-(du * du + dv * dv) / (2 * o.bilateral_sigma_pixels * o.bilateral_sigma_pixels)));
+      }
+    }
+    range_.resize(kRangeBins + 1);
+    for (int i = 0; i <= kRangeBins; ++i) {
+      const double x = kRangeSigmas * i / kRangeBins;  // |dz| / sigma
+      range_[i] = i == kRangeBins ? 0.0f : static_cast<float>(std::exp(-0.5 * x * x));
+    }
   }
-  // Invalid pixels (0) differ from any valid depth by far more than sigma_depth, so they get
-  // no weight in their neighbours' averages; they are put back to 0 afterwards.
-  cv::Mat smooth;
-  const int diameter = 2 * static_cast<int>(std::ceil(2 * o.bilateral_sigma_pixels)) + 1;
-  cv::bilateralFilter(clean, smooth, diameter, o.bilateral_sigma_depth, o.bilateral_sigma_pixels);
-  smooth.setTo(0.0f, clean == 0.0f);
-  return smooth;
-}
+
+  float At(int u, int v) const {
+    const float z0 = ValidDepth(depth_.at<float>(v, u), o_);
+    if (z0 == 0) return 0;
+    const int side = 2 * radius_ + 1;
+    const float to_bin = static_cast<float>(kRangeBins / (kRangeSigmas * o_.bilateral_sigma_depth));
+    float sum = 0, weight = 0;
+    for (int vv = v - radius_; vv <= v + radius_; vv += 2) {
+      if (vv < 0 || vv >= depth_.rows) continue;
+      const float* row = depth_.ptr<float>(vv);
+      const float* spatial = &spatial_[(vv - v + radius_) * side + radius_ - u];
+      for (int uu = u - radius_; uu <= u + radius_; uu += 2) {
+        if (uu < 0 || uu >= depth_.cols) continue;
+        const float z = ValidDepth(row[uu], o_);
+        if (z == 0) continue;
+        const int bin = std::min(kRangeBins, static_cast<int>(std::abs(z - z0) * to_bin));
+        const float w = spatial[uu] * range_[bin];
+        sum += w * z;
+        weight += w;
+      }
+    }
+    return sum / weight;  // weight >= 1: the centre pixel itself
+  }
+
+ private:
+  static constexpr int kRangeBins = 256;
+  static constexpr double kRangeSigmas = 4.0;  // beyond 4 sigma the range weight is 0
+  const cv::Mat& depth_;
+  const PointGridOptions& o_;
+  int radius_;
+  std::vector<float> spatial_, range_;
+};
 
 // The eigenvector of a 3x3 covariance's smallest eigenvalue, without an eigen-solver (which
 // took a third of the feature time: trigonometric closed form or iterations per cell). The
@@ -81,7 +120,8 @@ bool SmallestEigenvector(const Eigen::Matrix3d& c, Eigen::Vector3d* normal, doub
 PointGrid BuildPointGrid(const cv::Mat& depth, const CameraIntrinsics& k, const PointGridOptions& o) {
   o.Check();
   F2C_CHECK(depth.type() == CV_32F, "depth is CV_32F metres");
-  const cv::Mat source = o.bilateral ? FilteredDepth(depth, o) : depth;
+  std::optional<SampledBilateral> bilateral;
+  if (o.bilateral) bilateral.emplace(depth, o);
   PointGrid g;
   g.step = o.step;
   g.width = depth.cols / o.step;
@@ -94,7 +134,7 @@ PointGrid BuildPointGrid(const cv::Mat& depth, const CameraIntrinsics& k, const 
   for (int y = 0; y < g.height; ++y) {
     for (int x = 0; x < g.width; ++x) {
       const int u = g.PixelU(x), v = g.PixelV(y);
-      const float z = ValidDepth(source.at<float>(v, u), o);
+      const float z = bilateral ? bilateral->At(u, v) : ValidDepth(depth.at<float>(v, u), o);
       if (z > 0) g.points[g.Index(x, y)] = k.Unproject(u, v, z).cast<float>();
     }
   }
