@@ -183,10 +183,7 @@ std::vector<FeatureCacheEntry> ReadFeatureCache(const std::filesystem::path& pat
 FeatureSet ExtractFeatures(const RgbdSequence& seq, const FeatureOptions& options, const FeatureRun& run,
                            FeatureTimings* timings) {
   options.Check();
-  if (!seq.intrinsics) {
-    ThrowInputError(seq.root, "no intrinsics: pass --intrinsics (a preset: tum-fr1, tum-fr2, "
-                              "tum-fr3, primesense; or fx,fy,cx,cy)");
-  }
+  RequireIntrinsics(seq);
   Timer wall;
   FeatureTimings t;
   const int n = static_cast<int>(seq.frames.size());

@@ -146,6 +146,14 @@ RgbdSequence ReadSequence(const fs::path& path, const IoOptions& options) {
   return sequence;
 }
 
+const CameraIntrinsics& RequireIntrinsics(const RgbdSequence& seq) {
+  if (!seq.intrinsics) {
+    ThrowInputError(seq.root, "no intrinsics: pass --intrinsics (a preset: tum-fr1, tum-fr2, "
+                              "tum-fr3, primesense; or fx,fy,cx,cy)");
+  }
+  return *seq.intrinsics;
+}
+
 std::string CacheContext(const RgbdSequence& seq, const std::string& options_json) {
   std::string context = options_json;
   if (seq.intrinsics) {

@@ -69,6 +69,10 @@ RgbdSequence ReadSequence(const std::filesystem::path& path, const IoOptions& op
 // The layout of `path`, or InputError("<path>: unknown dataset layout ...").
 DatasetLayout DetectLayout(const std::filesystem::path& path);
 
+// The sequence's intrinsics, or InputError("<root>: no intrinsics: pass --intrinsics ...")
+// for a folder that carries none (TUM).
+const CameraIntrinsics& RequireIntrinsics(const RgbdSequence& sequence);
+
 // What every cache key of one run shares: the options' JSON, intrinsics and depth decoding
 // (the odometry's pair cache and the feature cache both key on it).
 std::string CacheContext(const RgbdSequence& sequence, const std::string& options_json);

@@ -196,10 +196,7 @@ Trajectory ConcatenatePairs(const RgbdSequence& sequence, const std::vector<Pair
 Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& options,
                           const OdometryRun& run) {
   options.Check();
-  if (!seq.intrinsics) {
-    ThrowInputError(seq.root, "no intrinsics: pass --intrinsics (a preset: tum-fr1, tum-fr2, "
-                              "tum-fr3, primesense; or fx,fy,cx,cy)");
-  }
+  RequireIntrinsics(seq);
   Timer wall;
   StageClock clock;
   Odometry odometry;
