@@ -1,6 +1,7 @@
 #pragma once
-// Ray casting of a sim::Scene into colour and depth, and a Kinect v1 / Xtion-like sensor
-// model. Exact geometry first, then each sensor effect, each switchable.
+// Rendering of a sim::Scene into colour and depth, and a Kinect v1 / Xtion-like sensor
+// model. Exact geometry first (rasterised visibility with the exact ray-plane depth per
+// pixel, see raster.h), then each sensor effect, each switchable.
 
 #include <memory>
 #include <opencv2/core.hpp>
@@ -56,7 +57,8 @@ class Renderer {
   // `noise_seed` fixes the sensor noise of this view (same seed, same bytes).
   RenderedView Render(const CameraIntrinsics& intrinsics, const Rigid3d& world_from_camera,
                       const SensorOptions& sensor, uint64_t noise_seed) const;
-  // Distance along the ray to the first surface (infinity if none), and its triangle.
+  // Distance along the ray to the first surface (infinity if none), and its triangle: a ray
+  // cast against a BVH, for single rays (ground-truth correspondences, visibility tests).
   double CastRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, int* triangle) const;
 
  private:

@@ -1,6 +1,6 @@
 #pragma once
 // Synthetic interiors for ground-truth experiments: rooms joined by doors and corridors,
-// furniture, procedural surface textures, as a triangle soup with a BVH for ray casting.
+// furniture, procedural surface textures, as a triangle soup.
 // World frame: metres, z up, floor at z = 0.
 
 #include <Eigen/Core>
