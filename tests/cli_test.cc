@@ -133,6 +133,15 @@ TEST(Cli, FeaturesWritesTheCacheImagesAndPointSetsAndReusesTheCache) {
   ASSERT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q -o " + reg.string()).code, 0);
   EXPECT_EQ(ReadFeatureCache(reg / "cache" / "features.f2cf", &context).size(), 3u);
 
+  // A corrupt depth image: one line naming it, exit 1, and no new cache (the old one stays).
+  const fs::path victim = *fs::directory_iterator(dir / "depth");
+  WriteFileAtomic(victim, "garbage");
+  const fs::path fresh = testing::FreshTempDir("cli_features_corrupt");
+  const Result corrupt = RunCli("features " + dir.string() + " --intrinsics primesense -q -o " + fresh.string());
+  EXPECT_EQ(corrupt.code, 1);
+  EXPECT_EQ(corrupt.output, "error: " + victim.string() + ": cannot decode image (corrupt or not an image)\n");
+  EXPECT_FALSE(fs::exists(fresh / "features.f2cf"));
+
   const Result no_k = RunCli("features " + dir.string() + " -q -o " + out.string());
   EXPECT_EQ(no_k.code, 1);
   EXPECT_EQ(no_k.output, "error: " + dir.string() +
