@@ -105,6 +105,9 @@ int RunRegister(const RegisterArgs& args) {
   WriteFileAtomic(out / "odometry.json", PairsToJson(odometry.pairs).dump(1) + "\n");
 
   const CameraIntrinsics& k = *seq.intrinsics;
+  json outputs = {"trajectory.txt", "trajectory.log", "trajectory.conf", "odometry.json"};
+  const bool features_cached = args.extract_features && args.use_cache;
+  if (features_cached) outputs.push_back("cache/features.f2cf");
   const json report = {
       {"input", fs::absolute(args.input).string()},
       {"layout", LayoutName(seq.layout)},
@@ -122,11 +125,11 @@ int RunRegister(const RegisterArgs& args) {
         {"features", feature_stage}}},
       {"statistics", {{"odometry", stats}, {"features", feature_stats}}},
       {"total_wall_s", total.Seconds()},
-      {"outputs", {"trajectory.txt", "trajectory.log", "trajectory.conf", "odometry.json"}},
+      {"outputs", outputs},
   };
   WriteFileAtomic(out / "run.json", report.dump(2) + "\n");
-  std::printf("wrote %s (TUM), trajectory.log, trajectory.conf, odometry.json, run.json\n",
-              (out / "trajectory.txt").string().c_str());
+  std::printf("wrote %s (TUM), trajectory.log, trajectory.conf, odometry.json, run.json%s\n",
+              (out / "trajectory.txt").string().c_str(), features_cached ? ", cache/features.f2cf" : "");
   std::printf("%zu frames in %.1f s (%.1f frames/s)\n", seq.frames.size(), total.Seconds(),
               seq.frames.size() / total.Seconds());
   return 0;
