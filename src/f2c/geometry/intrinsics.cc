@@ -27,8 +27,9 @@ void CameraIntrinsics::Validate(const std::string& source) const {
   if (!(std::isfinite(fx) && std::isfinite(fy) && fx > 0 && fy > 0)) {
     ThrowInputError(source, fmt::format("focal length must be positive (fx={}, fy={})", fx, fy));
   }
-  if (!(std::isfinite(cx) && std::isfinite(cy) && cx >= 0 && cy >= 0 && cx < width &&
-        cy < height)) {
+  if (!(std::isfinite(cx) && std::isfinite(cy) && cx >= 0 && cy >= 0 &&
+        (!size_known || (cx < width && cy < height)))) {
+    if (!size_known) ThrowInputError(source, fmt::format("principal point ({}, {}) must be >= 0", cx, cy));
     ThrowInputError(source, fmt::format("principal point ({}, {}) lies outside the {}x{} image",
                                         cx, cy, width, height));
   }
@@ -57,7 +58,7 @@ CameraIntrinsics ParseIntrinsics(const std::string& text, const std::string& sou
   if (values.size() != 4) {
     ThrowInputError(source, fmt::format("expected 4 numbers fx,fy,cx,cy, got {}", values.size()));
   }
-  CameraIntrinsics intrinsics{values[0], values[1], values[2], values[3], 640, 480};
+  CameraIntrinsics intrinsics{values[0], values[1], values[2], values[3], 640, 480, false};
   intrinsics.Validate(source);
   return intrinsics;
 }
@@ -67,7 +68,7 @@ CameraIntrinsics ReadIntrinsicsMatrixFile(const std::filesystem::path& path) {
   if (m[1] != 0 || m[3] != 0 || m[6] != 0 || m[7] != 0 || m[8] != 1) {
     ThrowInputError(path, "not a camera matrix [fx 0 cx; 0 fy cy; 0 0 1]");
   }
-  CameraIntrinsics intrinsics{m[0], m[4], m[2], m[5], 640, 480};
+  CameraIntrinsics intrinsics{m[0], m[4], m[2], m[5], 640, 480, false};
   intrinsics.Validate(path.string());
   return intrinsics;
 }

@@ -54,7 +54,7 @@ ConfFile ReadConf(const fs::path& path, double assumed_fps) {
     } else if (key == "intrinsics_matrix") {
       need(10, "9 numbers (a row-major 3x3 matrix)");
       const auto m = ParseDoublesOrThrow(tokens, 1, path, line.number, "9 numbers");
-      CameraIntrinsics k{m[0], m[4], m[2], m[5], 640, 480};
+      CameraIntrinsics k{m[0], m[4], m[2], m[5], 640, 480, false};
       k.Validate(fmt::format("{}:{}", path.string(), line.number));
       seq.intrinsics = k;
       seq.intrinsics_source = path.string();

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <opencv2/imgcodecs.hpp>
 
 #include "f2c/io/conf.h"
 #include "f2c/io/readers.h"
@@ -142,7 +143,20 @@ RgbdSequence ReadSequence(const fs::path& path, const IoOptions& options) {
   }
   if (sequence.frames.empty()) ThrowInputError(path, "dataset holds no frame");
   SelectFrames(path, options, &sequence);
-  if (options.check_files) CheckFilesExist(sequence);
+  if (options.check_files) {
+    CheckFilesExist(sequence);
+    // Intrinsics without an image size (a 3x3 matrix, fx,fy,cx,cy) take the first depth
+    // image's; every frame is then checked against it when decoded.
+    if (sequence.intrinsics && !sequence.intrinsics->size_known) {
+      const fs::path& first = sequence.frames.front().depth_path;
+      const cv::Mat depth = cv::imread(first.string(), cv::IMREAD_UNCHANGED);
+      if (depth.empty()) ThrowInputError(first, "cannot decode image (corrupt or not an image)");
+      sequence.intrinsics->width = depth.cols;
+      sequence.intrinsics->height = depth.rows;
+      sequence.intrinsics->size_known = true;
+      sequence.intrinsics->Validate(sequence.intrinsics_source);
+    }
+  }
   return sequence;
 }
 

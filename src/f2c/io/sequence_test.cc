@@ -136,6 +136,38 @@ TEST(ReadSevenScenes, FramesPosesIntrinsics) {
   EXPECT_NEAR(seq.ground_truth->world_from_camera[2].translation().x(), 0.04, 1e-12);
 }
 
+// A 3x3 matrix file carries no image size: it comes from the first depth image, so a
+// camera of another resolution (a RealSense at 848x480, say) reads, and every frame must
+// then match it.
+TEST(ReadSevenScenes, IntrinsicsTakeTheImageSize) {
+  const fs::path dir = testing::FreshTempDir("seven_scenes_848");
+  const CameraIntrinsics k{420.0, 420.0, 700.0, 240.0, 848, 480};  // cx beyond 640
+  Rigid3d pose = Rigid3d::Identity();
+  pose.translation() = Eigen::Vector3d(0, 0, -0.5);
+  for (int i = 0; i < 2; ++i) {
+    const auto frame = testing::Render(testing::SyntheticScene(), k, pose);
+    cv::Mat mm;
+    frame.depth.convertTo(mm, CV_16U, 1000.0);
+    cv::imwrite((dir / fmt::format("frame-{:06d}.color.png", i)).string(), frame.color);
+    cv::imwrite((dir / fmt::format("frame-{:06d}.depth.png", i)).string(), i == 0 ? mm : mm(cv::Rect(0, 0, 640, 480)));
+  }
+  WriteFileAtomic(dir / "camera-intrinsics.txt", "420 0 700\n0 420 240\n0 0 1\n");
+  const RgbdSequence seq = ReadSequence(dir);
+  EXPECT_EQ(seq.intrinsics->width, 848);
+  EXPECT_EQ(seq.intrinsics->height, 480);
+  EXPECT_EQ(LoadDepthMeters(seq, seq.frames[0]).cols, 848);
+  EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(seq, seq.frames[1]); }),
+            seq.frames[1].depth_path.string() + ": depth image is 640x480 but the intrinsics (" +
+                (dir / "camera-intrinsics.txt").string() + ") are for 848x480");
+  // fx,fy,cx,cy on the command line, likewise; a principal point outside the image is an error.
+  IoOptions io;
+  io.intrinsics = "420,420,700,240";
+  EXPECT_EQ(ReadSequence(dir, io).intrinsics->width, 848);
+  io.intrinsics = "420,420,900,240";
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir, io); }),
+            "--intrinsics 420,420,900,240: principal point (900, 240) lies outside the 848x480 image");
+}
+
 TEST(ReadSevenScenes, NanAndNonRigidPoses) {
   const fs::path dir = SevenScenesFolder("7s_bad_pose", 2);
   WriteFileAtomic(dir / "frame-000002.pose.txt", "1 0 0 nan\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
