@@ -42,6 +42,9 @@ void AddFeatureOptions(CLI::App* cmd, f2c::FeatureOptions* f) {
   add("--edge-jump-fraction", &f->edge_jump_fraction, "contours: depth jump above this fraction of depth...");
   add("--edge-min-jump", &f->edge_min_jump, "...and at least this many metres");
   add("--crease-angle", &f->crease_angle, "ridges/valleys where proxies meet at more than this (radians)");
+  add("--depth-noise-a", &f->proxies.sensor_sigma_a,
+      "sensor depth noise sigma(z) = a + b (z - 0.4)^2 (m; Kinect v1 defaults; 0 and 0 for noise-free depth)");
+  add("--depth-noise-b", &f->proxies.sensor_sigma_b, "...its b (m per m^2)");
   cmd->add_flag("--bilateral", f->grid.bilateral, "bilateral-filter depth first (noisy sensors, e.g. SUN3D)")
       ->group(group);
 }

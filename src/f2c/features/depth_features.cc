@@ -30,7 +30,6 @@ void FeatureOptions::Check() const {
   proxies.Check();
   auto fail = [](const std::string& field, const std::string& what) { ThrowInputError("features." + field, what); };
   if (!(min_spacing >= 0)) fail("min_spacing", "must be >= 0");
-  if (!(max_plane_curvature > 0)) fail("max_plane_curvature", "must be positive");
   if (!(edge_jump_fraction > 0 && edge_min_jump >= 0)) fail("edge_jump", "need a positive fraction and a minimum >= 0");
   if (edge_max_gap < 0 || crease_max_gap < 0) fail("max_gap", "must be >= 0");
   if (!(crease_angle > 0 && crease_angle < M_PI)) fail("crease_angle", "must be in (0, pi)");
@@ -170,9 +169,8 @@ FrameFeatures ExtractFrameFeatures(const cv::Mat& depth, const CameraIntrinsics&
   std::vector<Candidate> by_type[kFeatureTypeCount];
   // Planes.
   for (int i = 0; i < n; ++i) {
-    if (!g.HasNormal(i) || g.curvature[i] > o.max_plane_curvature) continue;
-    const float salience = 1.0f - g.curvature[i] / static_cast<float>(o.max_plane_curvature);
-    by_type[0].push_back({i, g.points[i], g.normals[i], salience, label[i]});
+    if (!IsFlat(g, i, o.proxies)) continue;
+    by_type[0].push_back({i, g.points[i], g.normals[i], Flatness(g, i, o.proxies), label[i]});
   }
 
   // Contours: a jump between a cell and the next valid cell to its right or below (across

@@ -3,7 +3,7 @@
 // edges along creases and contours of the depth image, well spaced, each tied to the planar
 // proxy it lies on. Thresholds follow DESIGN.md §2 (the authors' code).
 //
-//   plane       a sample of a locally planar surface; direction = its normal
+//   plane       a sample of a flat cell (IsFlat, proxies.h); direction = its normal
 //   silhouette  the near side of a depth jump (jump > edge_jump_fraction z and >= edge_min_jump)
 //   shadow      the far side of the same jump
 //   border      valid depth on the image border (the surface continues out of view)
@@ -30,7 +30,7 @@ struct Feature {
   FeatureType type = FeatureType::kPlane;
   Eigen::Vector3f position = Eigen::Vector3f::Zero();   // camera coordinates, metres
   Eigen::Vector3f direction = Eigen::Vector3f::Zero();  // planes: normal (towards the camera); edges: along the edge
-  // In [0, 1]: planes 1 - curvature / max_plane_curvature; silhouette and shadow
+  // In [0, 1]: planes their cell's Flatness() (proxies.h); silhouette and shadow
   // min(1, jump / 0.5 m); border 1; creases sin(angle between the two planes).
   float salience = 0;
   int32_t proxy = -1;                                   // proxy in this frame (creases: one of the two), -1 none
@@ -41,7 +41,6 @@ struct FeatureOptions {
   PointGridOptions grid;
   ProxyOptions proxies;
   double min_spacing = 0.05;             // metres between features of the same type (DESIGN.md)
-  double max_plane_curvature = 0.02;     // plane features only where the local fit is this flat
   double edge_jump_fraction = 0.1;       // depth jump > this fraction of the near depth...
   double edge_min_jump = 0.1;            // ...and >= this many metres (DESIGN.md)
   int edge_max_gap = 2;                  // cells of missing depth a jump may span (sensor shadows)

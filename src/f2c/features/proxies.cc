@@ -24,6 +24,27 @@ void ProxyOptions::Check() const {
 
 namespace {
 
+// The residual a flat cell may have at its depth: flat_noise_ratio sigma(z).
+double NoiseBound(const PointGrid& g, int i, const ProxyOptions& o) {
+  const double dz = g.points[i].z() - 0.4;
+  return o.flat_noise_ratio * (o.sensor_sigma_a + o.sensor_sigma_b * dz * dz);
+}
+
+}  // namespace
+
+bool IsFlat(const PointGrid& g, int i, const ProxyOptions& o) {
+  return g.HasNormal(i) && (g.curvature[i] <= o.max_curvature || g.residual[i] <= NoiseBound(g, i, o));
+}
+
+float Flatness(const PointGrid& g, int i, const ProxyOptions& o) {
+  if (!IsFlat(g, i, o)) return 0.0f;
+  const double bound = NoiseBound(g, i, o);
+  const double by_noise = bound > 0 ? 1.0 - g.residual[i] / bound : (g.residual[i] == 0 ? 1.0 : 0.0);
+  return static_cast<float>(std::clamp(std::max(1.0 - g.curvature[i] / o.max_curvature, by_noise), 0.0, 1.0));
+}
+
+namespace {
+
 struct Cluster {
   int parent = 0;
   int count = 0;
@@ -52,12 +73,7 @@ struct Edge {
 ProxySegmentation ExtractProxies(const PointGrid& g, const ProxyOptions& o) {
   o.Check();
   const int n = g.width * g.height;
-  auto Member = [&](int i) {
-    if (!g.HasNormal(i)) return false;
-    if (g.curvature[i] <= o.max_curvature) return true;
-    const double dz = g.points[i].z() - 0.4;
-    return g.residual[i] <= o.flat_noise_ratio * (o.sensor_sigma_a + o.sensor_sigma_b * dz * dz);
-  };
+  auto Member = [&](int i) { return IsFlat(g, i, o); };
   std::vector<Cluster> clusters(n);
   for (int i = 0; i < n; ++i) {
     clusters[i].parent = i;

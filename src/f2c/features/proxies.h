@@ -49,6 +49,13 @@ struct ProxyOptions {
   void Check() const;  // InputError naming the field when out of range
 };
 
+// Whether a cell's neighbourhood is flat by the tests above (a normal, and curvature <=
+// max_curvature or residual <= flat_noise_ratio sigma(z)), and how flat, in [0, 1]: the
+// larger of 1 - curvature / max_curvature and 1 - residual / (flat_noise_ratio sigma(z)).
+// Proxies are built from flat cells, and plane features sampled on them.
+bool IsFlat(const PointGrid& grid, int cell, const ProxyOptions& options);
+float Flatness(const PointGrid& grid, int cell, const ProxyOptions& options);
+
 struct PlanarProxy {
   Eigen::Vector3f normal = Eigen::Vector3f::Zero();  // unit, towards the camera
   float offset = 0;                                  // the plane is {x : normal . x = offset}
