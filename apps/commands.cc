@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <cstdio>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <opencv2/core/version.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -76,9 +77,19 @@ int RunRegister(const RegisterArgs& args) {
   spdlog::info("{}: {} layout, {} frames", args.input, LayoutName(seq.layout), seq.frames.size());
   if (seq.frames.size() < 2) ThrowInputError(args.input, "registration needs at least 2 frames");
 
+  // Features from the depth images the odometry decodes (no second decode); frames it
+  // does not decode (pairs from its cache) are decoded by the extraction itself.
+  std::optional<FeatureExtraction> extraction;
+  if (args.extract_features) {
+    FeatureRun feature_run;
+    feature_run.quiet = args.quiet;
+    if (args.use_cache) feature_run.cache_file = out / "cache" / "features.f2cf";
+    extraction.emplace(seq, args.features, feature_run);
+  }
   OdometryRun run;
   run.quiet = args.quiet;
   if (args.use_cache) run.cache_file = out / "cache" / "odometry_pairs.json";
+  if (extraction) run.on_depth = [&](int frame, const cv::Mat& depth) { extraction->Compute(frame, depth); };
   const Odometry odometry = AlignConsecutive(seq, args.odometry, run);
   const json stats = PairStatistics(odometry.pairs);
   spdlog::info("odometry: {} pairs ({} SIFT, {} ICP, {} motion prior) in {:.1f} s",
@@ -86,17 +97,14 @@ int RunRegister(const RegisterArgs& args) {
                stats["motion_prior"].get<int>(), odometry.timings.wall);
 
   json feature_stage = nullptr, feature_stats = nullptr;
-  if (args.extract_features) {
-    FeatureRun feature_run;
-    feature_run.quiet = args.quiet;
-    if (args.use_cache) feature_run.cache_file = out / "cache" / "features.f2cf";
+  if (extraction) {
     FeatureTimings timings;
-    const FeatureSet features = ExtractFeatures(seq, args.features, feature_run, &timings);
+    const FeatureSet features = extraction->Finish(&timings);
     feature_stage = ToJson(timings, static_cast<int>(seq.frames.size()));
     feature_stats = FeatureStatistics(features);
-    spdlog::info("features: {:.0f} per frame, {:.1f} proxies per frame, in {:.1f} s",
+    spdlog::info("features: {:.0f} per frame, {:.1f} proxies per frame ({:.1f} s of CPU)",
                  feature_stats["per_frame"]["features"].get<double>(),
-                 feature_stats["per_frame"]["proxies"].get<double>(), timings.wall);
+                 feature_stats["per_frame"]["proxies"].get<double>(), timings.extract + timings.decode);
   }
 
   WriteTumTrajectory(out / "trajectory.txt", odometry.t0);

@@ -180,55 +180,60 @@ std::vector<FeatureCacheEntry> ReadFeatureCache(const std::filesystem::path& pat
   return entries;
 }
 
-FeatureSet ExtractFeatures(const RgbdSequence& seq, const FeatureOptions& options, const FeatureRun& run,
-                           FeatureTimings* timings) {
+FeatureExtraction::FeatureExtraction(const RgbdSequence& seq, const FeatureOptions& options, const FeatureRun& run)
+    : seq_(seq), options_(options), run_(run) {
   options.Check();
   RequireIntrinsics(seq);
-  Timer wall;
-  FeatureTimings t;
   const int n = static_cast<int>(seq.frames.size());
-  FeatureSet set;
-  set.frames.resize(n);
-  std::vector<char> have(n, 0);
-  std::vector<uint64_t> keys(n, 0);
-  const uint64_t context = Fnv1a64(CacheContext(seq, ToJson(options).dump()));
-  const bool cached = !run.cache_file.empty();
-  if (cached) {
-    Timer timer;
-    tbb::parallel_for(0, n, [&](int i) { keys[i] = HashFile(seq.frames[i].depth_path) ^ (context * 0x9E3779B97F4A7C15ULL); });
-    t.hashing = timer.Seconds();
-    if (std::filesystem::exists(run.cache_file)) {
-      try {
-        uint64_t file_context = 0;
-        std::vector<FeatureCacheEntry> entries = ReadFeatureCache(run.cache_file, &file_context);
-        if (file_context == context) {
-          std::map<uint64_t, FrameFeatures*> by_key;
-          for (FeatureCacheEntry& e : entries) by_key[e.key] = &e.features;
-          for (int i = 0; i < n; ++i) {
-            const auto it = by_key.find(keys[i]);
-            if (it == by_key.end()) continue;
-            set.frames[i] = *it->second;
-            have[i] = 1;
-          }
-        }
-      } catch (const InputError& e) {
-        spdlog::warn("{} (recomputing)", e.what());  // only a cache
-      }
+  set_.frames.resize(n);
+  state_.assign(n, kMissing);
+  keys_.assign(n, 0);
+  context_ = Fnv1a64(CacheContext(seq, ToJson(options).dump()));
+  if (run.cache_file.empty()) return;
+  Timer timer;
+  tbb::parallel_for(0, n, [&](int i) { keys_[i] = HashFile(seq.frames[i].depth_path) ^ (context_ * 0x9E3779B97F4A7C15ULL); });
+  timings_.hashing = timer.Seconds();
+  if (!std::filesystem::exists(run.cache_file)) return;
+  try {
+    uint64_t file_context = 0;
+    std::vector<FeatureCacheEntry> entries = ReadFeatureCache(run.cache_file, &file_context);
+    if (file_context != context_) return;
+    std::map<uint64_t, FrameFeatures*> by_key;
+    for (FeatureCacheEntry& e : entries) by_key[e.key] = &e.features;
+    for (int i = 0; i < n; ++i) {
+      const auto it = by_key.find(keys_[i]);
+      if (it == by_key.end()) continue;
+      set_.frames[i] = std::move(*it->second);
+      state_[i] = kCached;
     }
+  } catch (const InputError& e) {
+    spdlog::warn("{} (recomputing)", e.what());  // only a cache
   }
-  t.frames_cached = static_cast<int>(std::count(have.begin(), have.end(), 1));
-  if (t.frames_cached > 0) spdlog::info("features: {} of {} frames from cache {}", t.frames_cached, n, run.cache_file.string());
+  timings_.frames_cached = static_cast<int>(std::count(state_.begin(), state_.end(), kCached));
+  if (timings_.frames_cached > 0) {
+    spdlog::info("features: {} of {} frames from cache {}", timings_.frames_cached, n, run.cache_file.string());
+  }
+}
 
-  Progress progress("features", n - t.frames_cached, run.quiet);
-  std::atomic<int64_t> decode_ns{0}, extract_ns{0};
+void FeatureExtraction::Compute(int frame, const cv::Mat& depth) {
+  if (state_[frame] != kMissing) return;
+  Timer extract;
+  set_.frames[frame] = ExtractFrameFeatures(depth, *seq_.intrinsics, options_);
+  extract_ns_ += static_cast<int64_t>(extract.Seconds() * 1e9);
+  state_[frame] = kComputed;
+}
+
+FeatureSet FeatureExtraction::Finish(FeatureTimings* timings) {
+  const int n = static_cast<int>(seq_.frames.size());
+  const int missing = static_cast<int>(std::count(state_.begin(), state_.end(), kMissing));
+  Progress progress("features", missing, run_.quiet || missing == 0);
+  std::atomic<int64_t> decode_ns{0};
   tbb::parallel_for(0, n, [&](int i) {
-    if (have[i]) return;
+    if (state_[i] != kMissing) return;
     Timer decode;
-    const cv::Mat depth = LoadDepthMeters(seq, seq.frames[i]);
+    const cv::Mat depth = LoadDepthMeters(seq_, seq_.frames[i]);
     decode_ns += static_cast<int64_t>(decode.Seconds() * 1e9);
-    Timer extract;
-    set.frames[i] = ExtractFrameFeatures(depth, *seq.intrinsics, options);
-    extract_ns += static_cast<int64_t>(extract.Seconds() * 1e9);
+    Compute(i, depth);
     progress.Advance();
   });
   progress.Finish();
@@ -236,24 +241,30 @@ FeatureSet ExtractFeatures(const RgbdSequence& seq, const FeatureOptions& option
   // frame), naming how many frames and the first of them.
   std::map<std::string, std::pair<int, int>> notes;  // note -> (frames, first frame)
   for (int i = 0; i < n; ++i) {
-    if (have[i] || set.frames[i].note.empty()) continue;
-    auto [it, inserted] = notes.try_emplace(set.frames[i].note, 0, i);
+    if (state_[i] != kComputed || set_.frames[i].note.empty()) continue;
+    auto [it, inserted] = notes.try_emplace(set_.frames[i].note, 0, i);
     ++it->second.first;
   }
   for (const auto& [note, where] : notes) {
-    spdlog::warn("features: {} in {} frame(s), first {}", note, where.first, seq.frames[where.second].depth_path.string());
+    spdlog::warn("features: {} in {} frame(s), first {}", note, where.first, seq_.frames[where.second].depth_path.string());
   }
-  t.frames_computed = n - t.frames_cached;
-  if (cached && t.frames_computed > 0) {
+  timings_.frames_computed = n - timings_.frames_cached;
+  if (!run_.cache_file.empty() && timings_.frames_computed > 0) {
     std::vector<FeatureCacheEntry> entries(n);
-    for (int i = 0; i < n; ++i) entries[i] = {keys[i], set.frames[i]};
-    WriteFeatureCache(run.cache_file, context, entries);
+    for (int i = 0; i < n; ++i) entries[i] = {keys_[i], set_.frames[i]};
+    WriteFeatureCache(run_.cache_file, context_, entries);
   }
-  t.decode = decode_ns * 1e-9;
-  t.extract = extract_ns * 1e-9;
-  t.wall = wall.Seconds();
-  if (timings) *timings = t;
-  return set;
+  timings_.decode = decode_ns * 1e-9;
+  timings_.extract = extract_ns_ * 1e-9;
+  timings_.wall = wall_.Seconds();
+  if (timings) *timings = timings_;
+  return std::move(set_);
+}
+
+FeatureSet ExtractFeatures(const RgbdSequence& seq, const FeatureOptions& options, const FeatureRun& run,
+                           FeatureTimings* timings) {
+  FeatureExtraction extraction(seq, options, run);
+  return extraction.Finish(timings);
 }
 
 nlohmann::json ToJson(const FeatureOptions& o) {

@@ -14,12 +14,14 @@
 // decoding), so frames are reused one by one: other options or another frame selection
 // recompute exactly the frames they change.
 
+#include <atomic>
 #include <filesystem>
 #include <nlohmann/json_fwd.hpp>
 #include <vector>
 
 #include "f2c/features/depth_features.h"
 #include "f2c/io/sequence.h"
+#include "f2c/util/timer.h"
 
 namespace f2c {
 
@@ -45,6 +47,33 @@ struct FeatureTimings {
 // without usable depth give empty results with a note (logged), not an error.
 FeatureSet ExtractFeatures(const RgbdSequence& sequence, const FeatureOptions& options, const FeatureRun& run,
                            FeatureTimings* timings = nullptr);
+
+// The same in steps, so a stage that decodes depth anyway (the odometry) can hand each
+// image over instead of it being decoded twice:
+//   FeatureExtraction features(sequence, options, run);   // hashes frames, reads the cache
+//   ... features.Compute(i, depth) for frames decoded elsewhere (any thread, distinct i) ...
+//   FeatureSet set = features.Finish(&timings);           // decodes and extracts the rest,
+//                                                          // writes the cache
+class FeatureExtraction {
+ public:
+  FeatureExtraction(const RgbdSequence& sequence, const FeatureOptions& options, const FeatureRun& run);
+  // Extracts frame `frame` from its decoded depth unless it is cached or done already.
+  void Compute(int frame, const cv::Mat& depth);
+  FeatureSet Finish(FeatureTimings* timings = nullptr);
+
+ private:
+  enum State : char { kMissing, kCached, kComputed };
+  const RgbdSequence& seq_;
+  FeatureOptions options_;
+  FeatureRun run_;
+  FeatureSet set_;
+  std::vector<State> state_;
+  std::vector<uint64_t> keys_;
+  uint64_t context_ = 0;
+  FeatureTimings timings_;
+  std::atomic<int64_t> extract_ns_{0};
+  Timer wall_;
+};
 
 // One cache entry per frame: its key and its features.
 struct FeatureCacheEntry {

@@ -245,6 +245,7 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
       if (needed && !frames[i].loaded) {
         LoadFrame(seq, f, options, &clock, &frames[i]);
         ++frames_processed;
+        if (run.on_depth) run.on_depth(f, frames[i].depth);
       }
     });
     tbb::parallel_for(begin + 1, end + 1, [&](int k) {

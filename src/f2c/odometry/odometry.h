@@ -11,6 +11,7 @@
 // well, because the refinement weights the local-alignment term E_L by it.
 
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json_fwd.hpp>
 #include <vector>
 
@@ -86,6 +87,9 @@ struct OdometryRun {
   bool quiet = false;  // no progress output
   // Frames decoded and described at once; bounds memory on long sequences.
   int chunk_frames = 64;
+  // Called with each depth image the odometry decodes (from worker threads, once per frame
+  // index), so later stages can use it without decoding it again.
+  std::function<void(int frame, const cv::Mat& depth)> on_depth;
 };
 
 // Aligns every consecutive pair of `sequence` (intrinsics required) in parallel.

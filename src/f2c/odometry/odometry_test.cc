@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+#include <mutex>
+
 #include "f2c/eval/trajectory_error.h"
+#include "f2c/io/image.h"
 #include "f2c/testing/synthetic_scene.h"
 #include "f2c/util/error.h"
 
@@ -105,6 +109,30 @@ TEST(AlignConsecutive, CacheIsReusedAndGivesTheSameAnswer) {
   OdometryOptions other;
   other.ratio = 0.6;  // another option: nothing may come from the cache
   EXPECT_EQ(AlignConsecutive(seq, other, run).timings.pairs_cached, 0);
+}
+
+// Every decoded depth image is handed to on_depth once, as LoadDepthMeters decodes it, even
+// across chunk borders (where a chunk reuses the previous chunk's last frame).
+TEST(AlignConsecutive, HandsEachDecodedDepthImageOverOnce) {
+  const SyntheticScene scene;
+  const RgbdSequence seq = WriteAndRead("odometry_on_depth", scene, 5);
+  OdometryRun run;
+  run.quiet = true;
+  run.chunk_frames = 2;
+  std::mutex mutex;
+  std::map<int, cv::Mat> seen;
+  int calls = 0;
+  run.on_depth = [&](int frame, const cv::Mat& depth) {
+    std::lock_guard<std::mutex> lock(mutex);
+    ++calls;
+    seen[frame] = depth.clone();
+  };
+  AlignConsecutive(seq, OdometryOptions(), run);
+  EXPECT_EQ(calls, 5);
+  ASSERT_EQ(seen.size(), 5u);
+  for (const auto& [frame, depth] : seen) {
+    EXPECT_EQ(cv::norm(depth, LoadDepthMeters(seq, seq.frames[frame]), cv::NORM_INF), 0.0) << frame;
+  }
 }
 
 TEST(AlignConsecutive, SameInputSamePoses) {
