@@ -189,21 +189,26 @@ FeatureExtraction::FeatureExtraction(const RgbdSequence& seq, const FeatureOptio
   state_.assign(n, kMissing);
   keys_.assign(n, 0);
   context_ = Fnv1a64(CacheContext(seq, ToJson(options).dump()));
-  if (run.cache_file.empty()) return;
+  if (!run.cache_file.empty()) ReadCache();
+  setup_s_ = wall_.Seconds();
+}
+
+void FeatureExtraction::ReadCache() {
+  const int n = static_cast<int>(seq_.frames.size());
   Timer timer;
-  tbb::parallel_for(0, n, [&](int i) { keys_[i] = HashFile(seq.frames[i].depth_path) ^ (context_ * 0x9E3779B97F4A7C15ULL); });
+  tbb::parallel_for(0, n, [&](int i) { keys_[i] = HashFile(seq_.frames[i].depth_path) ^ (context_ * 0x9E3779B97F4A7C15ULL); });
   timings_.hashing = timer.Seconds();
-  if (!std::filesystem::exists(run.cache_file)) return;
+  if (!std::filesystem::exists(run_.cache_file)) return;
   try {
     uint64_t file_context = 0;
-    std::vector<FeatureCacheEntry> entries = ReadFeatureCache(run.cache_file, &file_context);
+    std::vector<FeatureCacheEntry> entries = ReadFeatureCache(run_.cache_file, &file_context);
     if (file_context != context_) return;
     std::map<uint64_t, FrameFeatures*> by_key;
     for (FeatureCacheEntry& e : entries) by_key[e.key] = &e.features;
     for (int i = 0; i < n; ++i) {
       const auto it = by_key.find(keys_[i]);
       if (it == by_key.end()) continue;
-      set_.frames[i] = std::move(*it->second);
+      set_.frames[i] = *it->second;  // a copy: two frames may share bytes, so a key
       state_[i] = kCached;
     }
   } catch (const InputError& e) {
@@ -211,7 +216,7 @@ FeatureExtraction::FeatureExtraction(const RgbdSequence& seq, const FeatureOptio
   }
   timings_.frames_cached = static_cast<int>(std::count(state_.begin(), state_.end(), kCached));
   if (timings_.frames_cached > 0) {
-    spdlog::info("features: {} of {} frames from cache {}", timings_.frames_cached, n, run.cache_file.string());
+    spdlog::info("features: {} of {} frames from cache {}", timings_.frames_cached, n, run_.cache_file.string());
   }
 }
 
@@ -224,6 +229,7 @@ void FeatureExtraction::Compute(int frame, const cv::Mat& depth) {
 }
 
 FeatureSet FeatureExtraction::Finish(FeatureTimings* timings) {
+  Timer finish;
   const int n = static_cast<int>(seq_.frames.size());
   const int missing = static_cast<int>(std::count(state_.begin(), state_.end(), kMissing));
   Progress progress("features", missing, run_.quiet || missing == 0);
@@ -256,7 +262,9 @@ FeatureSet FeatureExtraction::Finish(FeatureTimings* timings) {
   }
   timings_.decode = decode_ns * 1e-9;
   timings_.extract = extract_ns_ * 1e-9;
-  timings_.wall = wall_.Seconds();
+  // The set-up and Finish(); not the time in between, when others (the odometry) may have
+  // called Compute().
+  timings_.wall = setup_s_ + finish.Seconds();
   if (timings) *timings = timings_;
   return std::move(set_);
 }

@@ -38,7 +38,7 @@ struct FeatureTimings {
   double decode = 0;   // seconds of CPU reading depth images (summed over threads)
   double extract = 0;  // seconds of CPU extracting (summed over threads)
   double hashing = 0;  // seconds hashing files for the cache (wall)
-  double wall = 0;
+  double wall = 0;     // seconds in the extraction's own steps (set-up and Finish)
   int frames_computed = 0;
   int frames_cached = 0;
 };
@@ -63,6 +63,7 @@ class FeatureExtraction {
 
  private:
   enum State : char { kMissing, kCached, kComputed };
+  void ReadCache();  // frame keys, and the frames the cache holds
   const RgbdSequence& seq_;
   FeatureOptions options_;
   FeatureRun run_;
@@ -73,6 +74,7 @@ class FeatureExtraction {
   FeatureTimings timings_;
   std::atomic<int64_t> extract_ns_{0};
   Timer wall_;
+  double setup_s_ = 0;
 };
 
 // One cache entry per frame: its key and its features.
