@@ -208,7 +208,7 @@ void FeatureExtraction::ReadCache() {
     for (int i = 0; i < n; ++i) {
       const auto it = by_key.find(keys_[i]);
       if (it == by_key.end()) continue;
-      set_.frames[i] = *it->second;  // a copy: two frames may share bytes, so a key
+      set_.frames[i] = *it->second;  // a copy: frames with identical bytes share a key
       state_[i] = kCached;
     }
   } catch (const InputError& e) {
