@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "apps/feature_views.h"
+#include "f2c/eval/correspondence_error.h"
 #include "f2c/eval/trajectory_error.h"
 #include "f2c/features/feature_set.h"
 #include "f2c/io/conf.h"
@@ -240,15 +241,35 @@ int RunEvaluate(const EvaluateArgs& args) {
   EvaluationOptions options;
   options.max_time_difference = args.max_time_difference;
   const EvaluationResult r = Evaluate(est, gt, options);
+
+  // The authors' metric on ground-truth correspondences, when there are some.
+  fs::path correspondence_file = args.correspondences;
+  if (correspondence_file.empty() && fs::is_directory(args.ground_truth) &&
+      fs::exists(fs::path(args.ground_truth) / "correspondences.txt")) {
+    correspondence_file = fs::path(args.ground_truth) / "correspondences.txt";
+  }
+  std::optional<CorrespondenceResult> corr;
+  if (!correspondence_file.empty()) {
+    if (frame_timestamps.empty()) {
+      ThrowInputError(correspondence_file, "correspondences name frames: give --ground-truth as the dataset folder");
+    }
+    corr = CorrespondenceError(PosesAtFrames(est, frame_timestamps, args.max_time_difference),
+                               ReadCorrespondences(correspondence_file), correspondence_file.string());
+  }
   if (args.json) {
-    const json j = {{"estimate", args.estimate},
-                    {"ground_truth", args.ground_truth},
-                    {"ate_m", StatsJson(r.ate.translation)},
-                    {"estimated_poses", r.ate.estimated_poses},
-                    {"rpe_per_frame", {{"translation_m", StatsJson(r.rpe_per_frame.translation)},
-                                       {"rotation_deg", StatsJson(r.rpe_per_frame.rotation)}}},
-                    {"rpe_per_second", {{"translation_m", StatsJson(r.rpe_per_second.translation)},
-                                        {"rotation_deg", StatsJson(r.rpe_per_second.rotation)}}}};
+    json j = {{"estimate", args.estimate},
+              {"ground_truth", args.ground_truth},
+              {"ate_m", StatsJson(r.ate.translation)},
+              {"estimated_poses", r.ate.estimated_poses},
+              {"rpe_per_frame", {{"translation_m", StatsJson(r.rpe_per_frame.translation)},
+                                 {"rotation_deg", StatsJson(r.rpe_per_frame.rotation)}}},
+              {"rpe_per_second", {{"translation_m", StatsJson(r.rpe_per_second.translation)},
+                                  {"rotation_deg", StatsJson(r.rpe_per_second.rotation)}}}};
+    if (corr) {
+      j["correspondences"] = {{"file", correspondence_file.string()},
+                              {"distance_m", StatsJson(corr->distance)},
+                              {"skipped", corr->skipped}};
+    }
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
@@ -261,6 +282,10 @@ int RunEvaluate(const EvaluateArgs& args) {
   PrintStatsRow("RPE/frame rotation", "deg", r.rpe_per_frame.rotation);
   PrintStatsRow("RPE/s translation", "m", r.rpe_per_second.translation);
   PrintStatsRow("RPE/s rotation", "deg", r.rpe_per_second.rotation);
+  if (corr) {
+    PrintStatsRow("correspondences", "m", corr->distance);
+    if (corr->skipped > 0) std::printf("(%d correspondences skipped: a frame without an estimated pose)\n", corr->skipped);
+  }
   return 0;
 }
 

@@ -38,6 +38,9 @@ struct EvaluateArgs {
   std::string ground_truth;
   bool json = false;
   double max_time_difference = 0.02;
+  // Ground-truth correspondences (the authors' format); empty: the dataset folder's
+  // correspondences.txt when there is one.
+  std::string correspondences;
 };
 int RunEvaluate(const EvaluateArgs& args);
 

@@ -117,6 +117,9 @@ int main(int argc, char** argv) {
                        "ground truth: a trajectory file, or a dataset folder that has one")
       ->required();
   eval_cmd->add_flag("--json", eval.json, "print JSON instead of a table");
+  eval_cmd->add_option("--correspondences", eval.correspondences,
+                       "ground-truth correspondences (authors' format) to measure |T_a p_a - T_b p_b| on; "
+                       "default: the dataset folder's correspondences.txt, if any");
   eval_cmd->add_option("--max-time-difference", eval.max_time_difference,
                        "association window (s)")
       ->capture_default_str();

@@ -175,6 +175,8 @@ TEST(Cli, SimulateWritesAReadableScanAndDemoEvaluatesIt) {
   const Result demo = RunCli("demo --frames 12 -o " + (dir / "demo").string());
   ASSERT_EQ(demo.code, 0) << demo.output;
   EXPECT_NE(demo.output.find("12 of 12 poses associated"), std::string::npos) << demo.output;
+  // The scan's ground-truth correspondences are evaluated too (the authors' metric).
+  EXPECT_NE(demo.output.find("\ncorrespondences        m "), std::string::npos) << demo.output;
   EXPECT_TRUE(fs::exists(dir / "demo" / "registration" / "trajectory.txt"));
 }
 

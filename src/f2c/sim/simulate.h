@@ -1,15 +1,13 @@
 #pragma once
 // A simulated scan on disk, in TUM layout so every tool reads it: rgb/, depth/ (uint16,
-// metres * 5000), rgb.txt, depth.txt, groundtruth.txt, camera-intrinsics.txt, and a
-// ground-truth correspondence file in the authors' benchmark format:
-//
-//   n_correspondences N
-//   point3d SCAN:<a> SCAN:<b> xA yA zA xB yB zB     (one surface point in frames a and b,
-//                                                    each in that frame's camera coordinates)
+// metres * 5000), rgb.txt, depth.txt, groundtruth.txt, camera-intrinsics.txt, and
+// correspondences.txt, ground-truth correspondences in the authors' benchmark format
+// (io/correspondences.h).
 
 #include <filesystem>
 #include <string>
 
+#include "f2c/io/correspondences.h"
 #include "f2c/sim/render.h"
 #include "f2c/sim/walk.h"
 
@@ -25,11 +23,6 @@ struct SimulateOptions {
   void Check() const;
 };
 
-struct Correspondence {
-  int frame_a = 0, frame_b = 0;
-  Eigen::Vector3d point_in_a, point_in_b;  // camera coordinates, metres
-};
-
 // Writes the scan into `dir` (created; files written atomically). Returns the poses.
 Trajectory Simulate(const std::filesystem::path& dir, const SimulateOptions& options, bool quiet);
 
@@ -37,7 +30,5 @@ Trajectory Simulate(const std::filesystem::path& dir, const SimulateOptions& opt
 std::vector<Correspondence> SampleCorrespondences(const Scene& scene, const Renderer& renderer,
                                                   const CameraIntrinsics& intrinsics,
                                                   const Trajectory& poses, int count, uint64_t seed);
-void WriteCorrespondences(const std::filesystem::path& path, const std::vector<Correspondence>& c);
-std::vector<Correspondence> ReadCorrespondences(const std::filesystem::path& path);
 
 }  // namespace f2c::sim

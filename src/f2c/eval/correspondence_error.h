@@ -1,0 +1,31 @@
+#pragma once
+// The authors' benchmark metric (paper §5): for each ground-truth correspondence between
+// frames a and b, the distance between the point mapped to the world by each frame's
+// estimated pose, |T_a p_a - T_b p_b|; reported as RMSE (and the other statistics) in
+// metres. It needs no ground-truth trajectory, only point pairs, and it is insensitive to
+// the global frame of the estimate: it measures exactly what a bent or doubled wall costs.
+
+#include <optional>
+#include <vector>
+
+#include "f2c/eval/trajectory_error.h"
+#include "f2c/io/correspondences.h"
+
+namespace f2c {
+
+// The estimate's pose at each frame time (nearest estimate stamp within
+// max_time_difference, one-to-one as the TUM tools associate), or none.
+std::vector<std::optional<Rigid3d>> PosesAtFrames(const Trajectory& estimate, const std::vector<double>& frame_timestamps,
+                                                  double max_time_difference);
+
+struct CorrespondenceResult {
+  ErrorStatistics distance;  // metres, over the correspondences whose frames both have poses
+  int skipped = 0;           // correspondences with a frame that has no estimated pose
+};
+
+// InputError naming `source` when a correspondence refers to a frame beyond `poses`.
+CorrespondenceResult CorrespondenceError(const std::vector<std::optional<Rigid3d>>& world_from_frame,
+                                         const std::vector<Correspondence>& correspondences,
+                                         const std::string& source);
+
+}  // namespace f2c

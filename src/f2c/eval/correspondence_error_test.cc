@@ -1,0 +1,87 @@
+#include "f2c/eval/correspondence_error.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "f2c/testing/synthetic_scene.h"
+
+namespace f2c {
+namespace {
+
+// Three frames looking at world points; correspondences made from the true poses.
+struct Fixture {
+  std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> truth;
+  std::vector<Correspondence> correspondences;
+  Fixture() {
+    for (int i = 0; i < 3; ++i) {
+      Rigid3d pose = Rigid3d::Identity();
+      pose.linear() = Eigen::AngleAxisd(0.2 * i, Eigen::Vector3d::UnitY()).toRotationMatrix();
+      pose.translation() = Eigen::Vector3d(0.5 * i, 0.1, -1.0);
+      truth.push_back(pose);
+    }
+    const Eigen::Vector3d world[4] = {{0, 0, 2}, {1, 0.5, 3}, {-0.5, -0.2, 2.5}, {0.3, 0.3, 1.5}};
+    for (const auto& [a, b] : {std::pair{0, 1}, {0, 2}, {1, 2}}) {
+      for (const Eigen::Vector3d& p : world) {
+        correspondences.push_back({a, b, truth[a].inverse() * p, truth[b].inverse() * p});
+      }
+    }
+  }
+};
+
+TEST(CorrespondenceError, VanishesAtTheTruthAndUnderAnyGlobalMotion) {
+  const Fixture f;
+  std::vector<std::optional<Rigid3d>> poses(f.truth.begin(), f.truth.end());
+  EXPECT_NEAR(CorrespondenceError(poses, f.correspondences, "x").distance.rmse, 0.0, 1e-12);
+  // The metric ignores the estimate's world frame.
+  Rigid3d g = Rigid3d::Identity();
+  g.linear() = Eigen::AngleAxisd(1.0, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  g.translation() = Eigen::Vector3d(4, -2, 7);
+  for (auto& p : poses) p = g * *p;
+  const CorrespondenceResult r = CorrespondenceError(poses, f.correspondences, "x");
+  EXPECT_NEAR(r.distance.rmse, 0.0, 1e-9);
+  EXPECT_EQ(r.distance.count, 12);
+}
+
+TEST(CorrespondenceError, MeasuresTheDisplacementOfAWrongPose) {
+  const Fixture f;
+  std::vector<std::optional<Rigid3d>> poses(f.truth.begin(), f.truth.end());
+  poses[2]->translation() += Eigen::Vector3d(0, 0.03, 0.04);  // frame 2 off by 5 cm
+  const CorrespondenceResult r = CorrespondenceError(poses, f.correspondences, "x");
+  // 8 of the 12 correspondences involve frame 2, each off by exactly 5 cm.
+  EXPECT_EQ(r.distance.count, 12);
+  EXPECT_NEAR(r.distance.max, 0.05, 1e-12);
+  EXPECT_NEAR(r.distance.rmse, std::sqrt(8 * 0.05 * 0.05 / 12), 1e-12);
+  EXPECT_NEAR(r.distance.median, 0.05, 1e-12);
+}
+
+TEST(CorrespondenceError, FramesWithoutPosesAreSkippedAndUnknownFramesAreErrors) {
+  Fixture f;
+  std::vector<std::optional<Rigid3d>> poses(f.truth.begin(), f.truth.end());
+  poses[1].reset();
+  const CorrespondenceResult r = CorrespondenceError(poses, f.correspondences, "x");
+  EXPECT_EQ(r.skipped, 8);
+  EXPECT_EQ(r.distance.count, 4);
+  f.correspondences.push_back({0, 7, {}, {}});
+  EXPECT_EQ(testing::InputErrorMessage([&] { CorrespondenceError(poses, f.correspondences, "c.txt"); }),
+            "c.txt: a correspondence refers to frame 7 but the dataset has 3 frames");
+}
+
+TEST(PosesAtFrames, AssociatesByTimeStamp) {
+  Trajectory estimate;
+  Rigid3d p = Rigid3d::Identity();
+  for (int i = 0; i < 3; ++i) {
+    p.translation().x() = i;
+    estimate.Add(10.0 + 0.1 * i + 0.005, p);  // 5 ms off the frame times
+  }
+  const auto poses = PosesAtFrames(estimate, {10.0, 10.1, 10.2, 10.3}, 0.02);
+  ASSERT_EQ(poses.size(), 4u);
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_TRUE(poses[i].has_value());
+    EXPECT_EQ(poses[i]->translation().x(), i);
+  }
+  EXPECT_FALSE(poses[3].has_value());
+}
+
+}  // namespace
+}  // namespace f2c
