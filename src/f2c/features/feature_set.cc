@@ -245,14 +245,18 @@ FeatureSet FeatureExtraction::Finish(FeatureTimings* timings) {
   progress.Finish();
   // One log line per kind of note (a scan of a blank wall would otherwise print a line per
   // frame), naming how many frames and the first of them.
+  // A warning where frames gave nothing at all, information where they gave some kinds.
   std::map<std::string, std::pair<int, int>> notes;  // note -> (frames, first frame)
+  std::map<std::string, bool> empty;                  // note -> some frame with it has no features
   for (int i = 0; i < n; ++i) {
     if (state_[i] != kComputed || set_.frames[i].note.empty()) continue;
     auto [it, inserted] = notes.try_emplace(set_.frames[i].note, 0, i);
     ++it->second.first;
+    empty[set_.frames[i].note] = empty[set_.frames[i].note] || set_.frames[i].features.empty();
   }
   for (const auto& [note, where] : notes) {
-    spdlog::warn("features: {} in {} frame(s), first {}", note, where.first, seq_.frames[where.second].depth_path.string());
+    spdlog::log(empty[note] ? spdlog::level::warn : spdlog::level::info, "features: {} in {} frame(s), first {}", note,
+                where.first, seq_.frames[where.second].depth_path.string());
   }
   timings_.frames_computed = n - timings_.frames_cached;
   if (!run_.cache_file.empty() && timings_.frames_computed > 0) {
