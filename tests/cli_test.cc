@@ -178,6 +178,14 @@ TEST(Cli, SimulateWritesAReadableScanAndDemoEvaluatesIt) {
   // The scan's ground-truth correspondences are evaluated too (the authors' metric).
   EXPECT_NE(demo.output.find("\ncorrespondences        m "), std::string::npos) << demo.output;
   EXPECT_TRUE(fs::exists(dir / "demo" / "registration" / "trajectory.txt"));
+  // Correspondences name frames, so they need the dataset folder, not a trajectory file.
+  const fs::path scan = dir / "demo" / "scan";
+  const Result no_frames = RunCli("evaluate --estimate " + (dir / "demo" / "registration" / "trajectory.txt").string() +
+                                  " --ground-truth " + (scan / "groundtruth.txt").string() + " --correspondences " +
+                                  (scan / "correspondences.txt").string());
+  EXPECT_EQ(no_frames.code, 1);
+  EXPECT_EQ(no_frames.output, "error: " + (scan / "correspondences.txt").string() +
+                                  ": correspondences name frames: give --ground-truth as the dataset folder\n");
 }
 
 TEST(Cli, InfoOnRealData) {
