@@ -62,7 +62,9 @@ TEST(CorrespondenceError, FramesWithoutPosesAreSkippedAndUnknownFramesAreErrors)
   const CorrespondenceResult r = CorrespondenceError(poses, f.correspondences, "x");
   EXPECT_EQ(r.skipped, 8);
   EXPECT_EQ(r.distance.count, 4);
-  f.correspondences.push_back({0, 7, {}, {}});
+  Correspondence beyond;
+  beyond.frame_b = 7;
+  f.correspondences.push_back(beyond);
   EXPECT_EQ(testing::InputErrorMessage([&] { CorrespondenceError(poses, f.correspondences, "c.txt"); }),
             "c.txt: a correspondence refers to frame 7 but the dataset has 3 frames");
 }

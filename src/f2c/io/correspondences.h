@@ -15,7 +15,8 @@ namespace f2c {
 
 struct Correspondence {
   int frame_a = 0, frame_b = 0;
-  Eigen::Vector3d point_in_a, point_in_b;  // camera coordinates, metres
+  Eigen::Vector3d point_in_a = Eigen::Vector3d::Zero();  // camera coordinates, metres
+  Eigen::Vector3d point_in_b = Eigen::Vector3d::Zero();
 };
 
 void WriteCorrespondences(const std::filesystem::path& path, const std::vector<Correspondence>& correspondences);
