@@ -1,0 +1,75 @@
+#include "f2c/util/progress.h"
+
+#include <gtest/gtest.h>
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
+
+#include <cstdlib>
+#include <regex>
+#include <sstream>
+
+namespace f2c {
+namespace {
+
+// Captures what the default logger prints while it lives (Progress logs a line per 10% when
+// stderr is not a terminal, as under ctest and CI).
+class LogCapture {
+ public:
+  LogCapture() : previous_(spdlog::default_logger()) {
+    setenv("CI", "1", 1);  // log lines even when the test runs on a terminal
+    auto sink = std::make_shared<spdlog::sinks::ostream_sink_mt>(stream_);
+    sink->set_pattern("%v");
+    spdlog::set_default_logger(std::make_shared<spdlog::logger>("capture", sink));
+  }
+  ~LogCapture() { spdlog::set_default_logger(previous_); }
+  std::vector<std::string> Lines() const {
+    std::vector<std::string> lines;
+    std::istringstream in(stream_.str());
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+  }
+
+ private:
+  std::shared_ptr<spdlog::logger> previous_;
+  std::ostringstream stream_;
+};
+
+TEST(Progress, LogsEveryTenthAndTheEndOnce) {
+  LogCapture capture;
+  {
+    Progress progress("work", 50);
+    for (int i = 0; i < 50; ++i) progress.Advance();
+  }  // the destructor prints the final line
+  const std::vector<std::string> lines = capture.Lines();
+  ASSERT_EQ(lines.size(), 10u);
+  for (int i = 0; i < 9; ++i) {
+    EXPECT_TRUE(std::regex_match(lines[i], std::regex("work: " + std::to_string(5 * (i + 1)) + "/50 \\(.*/s, .* s\\)")))
+        << lines[i];
+  }
+  EXPECT_TRUE(std::regex_match(lines[9], std::regex("work: 50/50 \\(.*")));
+}
+
+TEST(Progress, FromManyThreadsEachTenthOnce) {
+  LogCapture capture;
+  Progress progress("parallel", 1000);
+  tbb::parallel_for(0, 1000, [&](int) { progress.Advance(); });
+  progress.Finish();
+  progress.Finish();  // twice: printed once
+  const std::vector<std::string> lines = capture.Lines();
+  ASSERT_EQ(lines.size(), 10u);
+  EXPECT_TRUE(std::regex_match(lines.back(), std::regex("parallel: 1000/1000 \\(.*")));
+}
+
+TEST(Progress, QuietOrEmptyPrintsNothing) {
+  LogCapture capture;
+  {
+    Progress quiet("quiet", 10, true);
+    for (int i = 0; i < 10; ++i) quiet.Advance();
+    Progress empty("empty", 0);
+  }
+  EXPECT_TRUE(capture.Lines().empty());
+}
+
+}  // namespace
+}  // namespace f2c
