@@ -38,7 +38,7 @@ json Versions() {
 json ToJson(const IoOptions& io) {
   return {{"intrinsics", io.intrinsics}, {"every", io.every},   {"first", io.first},
           {"last", io.last},             {"max_time_difference", io.max_time_difference},
-          {"assumed_fps", io.assumed_fps}};
+          {"assumed_fps", io.assumed_fps}, {"sequence", io.sequence}};
 }
 
 json PairsToJson(const std::vector<PairAlignment>& pairs) {

@@ -24,6 +24,8 @@ void AddFrameSelection(CLI::App* cmd, f2c::IoOptions* io) {
   cmd->add_option("--every", io->every, "use every N-th frame")->check(CLI::PositiveNumber);
   cmd->add_option("--first", io->first, "first frame (0-based)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--last", io->last, "last frame, inclusive (-1: the end)");
+  cmd->add_option("--sequence", io->sequence,
+                  "7-Scenes/3DMatch: read only this seq-XX subfolder (default: all, joined)");
 }
 
 void AddFeatureOptions(CLI::App* cmd, f2c::FeatureOptions* f) {

@@ -82,7 +82,23 @@ RgbdSequence ReadSevenScenes(const fs::path& dir, const IoOptions& options) {
     }
   }
   std::sort(folders.begin(), folders.end());
-  folders.insert(folders.begin(), dir);
+  if (!options.sequence.empty()) {
+    const fs::path chosen = dir / options.sequence;
+    if (std::find(folders.begin(), folders.end(), chosen) == folders.end()) {
+      std::vector<std::string> names;
+      for (const fs::path& f : folders) names.push_back(f.filename().string());
+      ThrowInputError(dir, fmt::format("no sequence folder '{}' (it has: {})", options.sequence,
+                                       names.empty() ? std::string("none") : fmt::format("{}", fmt::join(names, ", "))));
+    }
+    folders = {chosen};
+  } else {
+    if (folders.size() > 1) {
+      spdlog::warn("{}: {} seq-XX folders joined into one sequence; the pair across each join is not a real "
+                   "motion (--sequence NAME reads one)",
+                   dir.string(), folders.size());
+    }
+    folders.insert(folders.begin(), dir);
+  }
   Trajectory gt;
   long number_offset = 0;  // keeps time stamps increasing across seq-XX folders
   for (const fs::path& folder : folders) {

@@ -56,6 +56,9 @@ struct IoOptions {
   // Frame rate assumed for layouts without time stamps (7-Scenes, Redwood, SUN3D):
   // timestamp = frame_number / assumed_fps.
   double assumed_fps = 30.0;
+  // 7-Scenes / 3DMatch folders with seq-XX subfolders: read only the one of this name
+  // (empty: all of them, joined in order; the pair across each join is not a real motion).
+  std::string sequence;
   // Check every listed image exists when reading (cheap; catches missing frames up front).
   bool check_files = true;
 

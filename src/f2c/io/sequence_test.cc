@@ -168,6 +168,27 @@ TEST(ReadSevenScenes, IntrinsicsTakeTheImageSize) {
             "--intrinsics 420,420,900,240: principal point (900, 240) lies outside the 848x480 image");
 }
 
+// 3DMatch-style seq-XX subfolders: all joined by default, one with --sequence, and a clear
+// error naming the ones there for a wrong name.
+TEST(ReadSevenScenes, SequenceSubfolders) {
+  const fs::path dir = testing::FreshTempDir("seven_scenes_seqs");
+  for (const char* seq : {"seq-01", "seq-02"}) {
+    const fs::path sub = SevenScenesFolder(std::string("seven_scenes_seqs_") + seq, 2);
+    fs::rename(sub, dir / seq);
+  }
+  fs::copy_file(dir / "seq-01" / "camera-intrinsics.txt", dir / "camera-intrinsics.txt");
+  EXPECT_EQ(ReadSequence(dir).frames.size(), 4u);
+  IoOptions io;
+  io.sequence = "seq-02";
+  const RgbdSequence two = ReadSequence(dir, io);
+  ASSERT_EQ(two.frames.size(), 2u);
+  EXPECT_EQ(two.frames[0].depth_path, dir / "seq-02" / "frame-000000.depth.png");
+  EXPECT_EQ(two.ground_truth->size(), 2u);
+  io.sequence = "seq-09";
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir, io); }),
+            dir.string() + ": no sequence folder 'seq-09' (it has: seq-01, seq-02)");
+}
+
 TEST(ReadSevenScenes, NanAndNonRigidPoses) {
   const fs::path dir = SevenScenesFolder("7s_bad_pose", 2);
   WriteFileAtomic(dir / "frame-000002.pose.txt", "1 0 0 nan\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
