@@ -242,7 +242,7 @@ FrameFeatures ExtractFrameFeatures(const cv::Mat& depth, const CameraIntrinsics&
     for (int x = 0; x < g.width; ++x) {
       const int i = g.Index(x, y);
       const int a = label[i];
-      if (a < 0) continue;
+      if (a < 0 || contour[i] != 0) continue;  // creases only between jump-free cells
       const int dirs[2][2] = {{1, 0}, {0, 1}};
       for (const auto& d : dirs) {
         int j = -1;
@@ -257,7 +257,7 @@ FrameFeatures ExtractFrameFeatures(const cv::Mat& depth, const CameraIntrinsics&
             break;
           }
         }
-        if (j < 0 || contour[i] != 0) continue;
+        if (j < 0) continue;
         const int b = label[j];
         const PlanarProxy& pa = out.proxies[a];
         const PlanarProxy& pb = out.proxies[b];
