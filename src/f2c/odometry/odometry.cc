@@ -7,7 +7,6 @@
 #include <atomic>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "f2c/io/image.h"
@@ -55,22 +54,10 @@ struct MatchSet {
 
 MatchSet MatchFeatures(const SiftFeatures& prev, const SiftFeatures& curr, const OdometryOptions& o) {
   MatchSet set;
-  if (prev.size() < 2 || curr.size() < 2) return set;
-  cv::BFMatcher matcher(cv::NORM_L2);
-  std::vector<std::vector<cv::DMatch>> knn;
-  matcher.knnMatch(curr.descriptors, prev.descriptors, knn, 2);
-  auto collect = [&](double ratio) {
-    MatchSet s;
-    for (const auto& m : knn) {
-      if (m.size() == 2 && m[0].distance < ratio * m[1].distance) {
-        s.curr.push_back(curr.points_in_camera[m[0].queryIdx]);
-        s.prev.push_back(prev.points_in_camera[m[0].trainIdx]);
-      }
-    }
-    return s;
-  };
-  set = collect(o.ratio);
-  if (static_cast<int>(set.prev.size()) < o.relax_below_matches) set = collect(o.relaxed_ratio);
+  for (const SiftMatch& m : MatchSiftRatio(curr, prev, o.ratio, o.relaxed_ratio, o.relax_below_matches)) {
+    set.curr.push_back(curr.points_in_camera[m.query]);
+    set.prev.push_back(prev.points_in_camera[m.train]);
+  }
   return set;
 }
 

@@ -15,10 +15,10 @@
 #include <nlohmann/json_fwd.hpp>
 #include <vector>
 
-#include "f2c/features/sift.h"
+#include "f2c/matching/sift.h"
 #include "f2c/io/sequence.h"
 #include "f2c/odometry/depth_alignment.h"
-#include "f2c/odometry/ransac.h"
+#include "f2c/matching/ransac.h"
 
 namespace f2c {
 

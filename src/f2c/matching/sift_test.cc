@@ -1,4 +1,4 @@
-#include "f2c/features/sift.h"
+#include "f2c/matching/sift.h"
 
 #include <gtest/gtest.h>
 
@@ -69,6 +69,26 @@ TEST(ExtractSiftWithDepth, UntexturedViewHasFewKeypoints) {
   cv::Mat gray;
   cv::cvtColor(frame.color, gray, cv::COLOR_BGR2GRAY);
   EXPECT_LT(ExtractSiftWithDepth(gray, frame.depth, k, SiftOptions()).size(), 12u);
+}
+
+// Descriptors built by hand: query 0 has one clear nearest neighbour; query 1 sits between
+// two train descriptors (ratio ~0.9) and passes only the relaxed test.
+TEST(MatchSiftRatio, RatioTestAndItsRelaxation) {
+  SiftFeatures train, query;
+  train.descriptors = (cv::Mat_<float>(3, 2) << 0, 0, 10, 0, 0, 10);
+  train.points_in_camera.resize(3);
+  query.descriptors = (cv::Mat_<float>(2, 2) << 1, 0, 4.7f, 0);
+  query.points_in_camera.resize(2);
+  // 0: d = 1 vs 9 (ratio 0.11); 1: d = 4.7 vs 5.3 (ratio 0.89).
+  std::vector<SiftMatch> strict = MatchSiftRatio(query, train, 0.55, 0.8, 0);
+  ASSERT_EQ(strict.size(), 1u);
+  EXPECT_EQ(strict[0].query, 0);
+  EXPECT_EQ(strict[0].train, 0);
+  // Fewer than 5 matches pass 0.55: relaxed to 0.95, both match.
+  std::vector<SiftMatch> relaxed = MatchSiftRatio(query, train, 0.55, 0.95, 5);
+  ASSERT_EQ(relaxed.size(), 2u);
+  EXPECT_EQ(relaxed[1].query, 1);
+  EXPECT_EQ(relaxed[1].train, 0);
 }
 
 }  // namespace

@@ -46,4 +46,15 @@ struct SiftFeatures {
 SiftFeatures ExtractSiftWithDepth(const cv::Mat& gray, const cv::Mat& depth,
                                   const CameraIntrinsics& intrinsics, const SiftOptions& options);
 
+// Lowe's ratio test: each point of `query` is matched to its nearest neighbour in `train`
+// (L2 on descriptors) when that is closer than `ratio` times the second nearest. When fewer
+// than `relax_below_matches` pass, the test is redone with `relaxed_ratio` (the authors: 0.55,
+// relaxed to 0.8 below 50 matches). Returns index pairs (query, train) in query order.
+struct SiftMatch {
+  int query = 0;
+  int train = 0;
+};
+std::vector<SiftMatch> MatchSiftRatio(const SiftFeatures& query, const SiftFeatures& train, double ratio,
+                                      double relaxed_ratio, int relax_below_matches);
+
 }  // namespace f2c

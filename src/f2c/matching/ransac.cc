@@ -1,4 +1,4 @@
-#include "f2c/odometry/ransac.h"
+#include "f2c/matching/ransac.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>

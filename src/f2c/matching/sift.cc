@@ -1,4 +1,4 @@
-#include "f2c/features/sift.h"
+#include "f2c/matching/sift.h"
 
 #include <fmt/format.h>
 
@@ -69,6 +69,24 @@ SiftFeatures ExtractSiftWithDepth(const cv::Mat& gray, const cv::Mat& depth,
   features.descriptors.create(static_cast<int>(kept.size()), descriptors.cols, CV_32F);
   for (size_t r = 0; r < kept.size(); ++r) descriptors.row(kept[r]).copyTo(features.descriptors.row(static_cast<int>(r)));
   return features;
+}
+
+std::vector<SiftMatch> MatchSiftRatio(const SiftFeatures& query, const SiftFeatures& train, double ratio,
+                                      double relaxed_ratio, int relax_below_matches) {
+  std::vector<SiftMatch> matches;
+  if (query.size() < 2 || train.size() < 2) return matches;
+  cv::BFMatcher matcher(cv::NORM_L2);
+  std::vector<std::vector<cv::DMatch>> knn;
+  matcher.knnMatch(query.descriptors, train.descriptors, knn, 2);
+  auto collect = [&](double r) {
+    matches.clear();
+    for (const auto& m : knn) {
+      if (m.size() == 2 && m[0].distance < r * m[1].distance) matches.push_back({m[0].queryIdx, m[0].trainIdx});
+    }
+  };
+  collect(ratio);
+  if (static_cast<int>(matches.size()) < relax_below_matches) collect(relaxed_ratio);
+  return matches;
 }
 
 }  // namespace f2c
