@@ -1,7 +1,11 @@
 #pragma once
-// The subcommands of the fine2coarse CLI. Each returns the process exit code; bad input
-// propagates as InputError, which main() turns into one line and exit 1.
+// The subcommands of the fine2coarse CLI, one file each (apps/<name>_command.cc). Each adds
+// its options to the CLI and returns the function that runs it once the command line is
+// parsed; that returns the process exit code. Bad input propagates as InputError, which
+// main() turns into one line and exit 1.
 
+#include <CLI/CLI.hpp>
+#include <functional>
 #include <string>
 
 #include "f2c/features/depth_features.h"
@@ -9,6 +13,19 @@
 #include "f2c/odometry/odometry.h"
 
 namespace f2c::app {
+
+struct Subcommand {
+  CLI::App* cli = nullptr;
+  std::function<int()> run;
+};
+Subcommand AddRegisterCommand(CLI::App* app);
+Subcommand AddFeaturesCommand(CLI::App* app);
+Subcommand AddEvaluateCommand(CLI::App* app);
+Subcommand AddSimulateCommand(CLI::App* app);
+Subcommand AddDemoCommand(CLI::App* app);
+Subcommand AddInfoCommand(CLI::App* app);
+
+// The subcommands' arguments and bodies (the demo runs simulate, register and evaluate).
 
 struct RegisterArgs {
   std::string input;

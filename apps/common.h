@@ -1,0 +1,22 @@
+#pragma once
+// What the subcommands share: run.json pieces and the CLI option groups that several
+// subcommands take.
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "f2c/features/depth_features.h"
+#include "f2c/io/sequence.h"
+
+namespace f2c::app {
+
+// Versions of fine2coarse and its main libraries, for run.json.
+nlohmann::json Versions();
+nlohmann::json ToJson(const IoOptions& io);
+
+// --intrinsics, --every, --first, --last, --sequence.
+void AddFrameSelection(CLI::App* cmd, IoOptions* io);
+// The feature extraction's options (paper 4.1).
+void AddFeatureOptions(CLI::App* cmd, FeatureOptions* features);
+
+}  // namespace f2c::app

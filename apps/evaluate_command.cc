@@ -1,0 +1,138 @@
+// fine2coarse evaluate: ATE, RPE and the correspondence metric of a trajectory.
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <memory>
+#include <optional>
+
+#include "apps/commands.h"
+#include "apps/common.h"
+#include "f2c/eval/correspondence_error.h"
+#include "f2c/eval/trajectory_error.h"
+#include "f2c/io/correspondences.h"
+#include "f2c/util/error.h"
+
+namespace f2c::app {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// Ground truth from a trajectory file or a dataset folder. `frame_timestamps` receives the
+// dataset's frame time stamps (to place estimates that carry frame ids, not stamps).
+Trajectory LoadGroundTruth(const fs::path& path, std::vector<double>* frame_timestamps) {
+  if (fs::is_directory(path) || path.extension() == ".conf") {
+    IoOptions io;
+    io.check_files = false;
+    const RgbdSequence seq = ReadSequence(path, io);
+    if (!seq.ground_truth) ThrowInputError(path, "dataset has no ground-truth trajectory");
+    for (const RgbdFrame& f : seq.frames) frame_timestamps->push_back(f.timestamp);
+    return *seq.ground_truth;
+  }
+  return ReadTrajectoryFile(path);
+}
+
+void PrintStatsRow(const char* name, const char* unit, const ErrorStatistics& s) {
+  std::printf("%-22s %-4s %9.4f %9.4f %9.4f %9.4f %9.4f %9.4f %6d\n", name, unit, s.rmse, s.mean,
+              s.median, s.std, s.min, s.max, s.count);
+}
+
+json StatsJson(const ErrorStatistics& s) {
+  return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std},
+          {"min", s.min},   {"max", s.max},   {"count", s.count}};
+}
+
+}  // namespace
+
+int RunEvaluate(const EvaluateArgs& args) {
+  std::vector<double> frame_timestamps;
+  Trajectory gt = LoadGroundTruth(args.ground_truth, &frame_timestamps);
+  Trajectory est = ReadTrajectoryFile(args.estimate);
+  if (!est.has_timestamps && gt.has_timestamps) {
+    // .log / .conf estimates carry frame ids: place them at the dataset's frame times.
+    if (frame_timestamps.empty()) {
+      ThrowInputError(args.estimate, "has no time stamps (.log/.conf); give --ground-truth as the "
+                                     "dataset folder so frame ids can be placed in time");
+    }
+    for (double& id : est.timestamps) {
+      const auto i = static_cast<long>(id);
+      if (i < 0 || i >= static_cast<long>(frame_timestamps.size())) {
+        ThrowInputError(args.estimate, fmt::format("frame id {} but the dataset has {} frames", i,
+                                                   frame_timestamps.size()));
+      }
+      id = frame_timestamps[i];
+    }
+  }
+  EvaluationOptions options;
+  options.max_time_difference = args.max_time_difference;
+  const EvaluationResult r = Evaluate(est, gt, options);
+
+  // The authors' metric on ground-truth correspondences, when there are some.
+  fs::path correspondence_file = args.correspondences;
+  if (correspondence_file.empty() && fs::is_directory(args.ground_truth) &&
+      fs::exists(fs::path(args.ground_truth) / "correspondences.txt")) {
+    correspondence_file = fs::path(args.ground_truth) / "correspondences.txt";
+  }
+  std::optional<CorrespondenceResult> corr;
+  if (!correspondence_file.empty()) {
+    if (frame_timestamps.empty()) {
+      ThrowInputError(correspondence_file, "correspondences name frames: give --ground-truth as the dataset folder");
+    }
+    corr = CorrespondenceError(PosesAtFrames(est, frame_timestamps, args.max_time_difference),
+                               ReadCorrespondences(correspondence_file), correspondence_file.string());
+  }
+  if (args.json) {
+    json j = {{"estimate", args.estimate},
+              {"ground_truth", args.ground_truth},
+              {"ate_m", StatsJson(r.ate.translation)},
+              {"estimated_poses", r.ate.estimated_poses},
+              {"rpe_per_frame", {{"translation_m", StatsJson(r.rpe_per_frame.translation)},
+                                 {"rotation_deg", StatsJson(r.rpe_per_frame.rotation)}}},
+              {"rpe_per_second", {{"translation_m", StatsJson(r.rpe_per_second.translation)},
+                                  {"rotation_deg", StatsJson(r.rpe_per_second.rotation)}}}};
+    if (corr) {
+      j["correspondences"] = {{"file", correspondence_file.string()},
+                              {"distance_m", StatsJson(corr->distance)},
+                              {"skipped", corr->skipped}};
+    }
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s vs %s: %d of %d poses associated\n", args.estimate.c_str(), args.ground_truth.c_str(),
+              r.ate.translation.count, r.ate.estimated_poses);
+  std::printf("%-22s %-4s %9s %9s %9s %9s %9s %9s %6s\n", "metric", "unit", "rmse", "mean", "median",
+              "std", "min", "max", "n");
+  PrintStatsRow("ATE", "m", r.ate.translation);
+  PrintStatsRow("RPE/frame translation", "m", r.rpe_per_frame.translation);
+  PrintStatsRow("RPE/frame rotation", "deg", r.rpe_per_frame.rotation);
+  PrintStatsRow("RPE/s translation", "m", r.rpe_per_second.translation);
+  PrintStatsRow("RPE/s rotation", "deg", r.rpe_per_second.rotation);
+  if (corr) {
+    PrintStatsRow("correspondences", "m", corr->distance);
+    if (corr->skipped > 0) std::printf("(%d correspondences skipped: a frame without an estimated pose)\n", corr->skipped);
+  }
+  return 0;
+}
+
+Subcommand AddEvaluateCommand(CLI::App* app) {
+  auto args = std::make_shared<EvaluateArgs>();
+  CLI::App* cmd = app->add_subcommand(
+      "evaluate", "ATE (after rigid alignment) and RPE (per frame, per second) of a trajectory, "
+                  "as the TUM benchmark tools compute them");
+  cmd->add_option("--estimate", args->estimate, "trajectory: TUM text, .log or .conf")->required();
+  cmd->add_option("--ground-truth", args->ground_truth,
+                       "ground truth: a trajectory file, or a dataset folder that has one")
+      ->required();
+  cmd->add_flag("--json", args->json, "print JSON instead of a table");
+  cmd->add_option("--correspondences", args->correspondences,
+                       "ground-truth correspondences (authors' format) to measure |T_a p_a - T_b p_b| on; "
+                       "default: the dataset folder's correspondences.txt, if any");
+  cmd->add_option("--max-time-difference", args->max_time_difference,
+                       "association window (s)")
+      ->capture_default_str();
+
+  return {cmd, [args] { return RunEvaluate(*args); }};
+}
+
+}  // namespace f2c::app

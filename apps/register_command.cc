@@ -1,0 +1,178 @@
+// fine2coarse register: a dataset folder to camera poses.
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+#include <memory>
+#include <optional>
+
+#include "apps/commands.h"
+#include "apps/common.h"
+#include "f2c/features/feature_set.h"
+#include "f2c/io/conf.h"
+#include "f2c/util/error.h"
+#include "f2c/util/file.h"
+#include "f2c/util/timer.h"
+
+namespace f2c::app {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+json PairsToJson(const std::vector<PairAlignment>& pairs) {
+  json out = json::array();
+  for (const PairAlignment& p : pairs) out.push_back(ToJson(p));
+  return out;
+}
+
+json PairStatistics(const std::vector<PairAlignment>& pairs) {
+  int sift = 0, icp = 0, prior = 0;
+  double inliers = 0, fitness = 0, min_fitness = pairs.empty() ? 0.0 : 1.0;
+  for (const PairAlignment& p : pairs) {
+    sift += p.method == AlignmentMethod::kSift;
+    icp += p.method == AlignmentMethod::kIcp;
+    prior += p.method == AlignmentMethod::kMotionPrior;
+    inliers += p.inliers;
+    fitness += p.fitness;
+    min_fitness = std::min(min_fitness, p.fitness);
+  }
+  const double n = std::max<size_t>(pairs.size(), 1);
+  return {{"pairs", pairs.size()},   {"sift", sift},
+          {"icp", icp},              {"motion_prior", prior},
+          {"mean_inliers", inliers / n}, {"mean_fitness", fitness / n},
+          {"min_fitness", min_fitness}};
+}
+
+struct RegisterFlags {
+  bool no_icp = false, no_cache = false, no_features = false;
+};
+
+}  // namespace
+
+int RunRegister(const RegisterArgs& args) {
+  Timer total;
+  args.odometry.Check();
+  const fs::path out = args.output;
+  EnsureWritableDirectory(out);  // fail before minutes of work, not after
+  Timer timer;
+  const RgbdSequence seq = ReadSequence(args.input, args.io);
+  const double read_s = timer.Seconds();
+  spdlog::info("{}: {} layout, {} frames", args.input, LayoutName(seq.layout), seq.frames.size());
+  if (seq.frames.size() < 2) ThrowInputError(args.input, "registration needs at least 2 frames");
+
+  // Features from the depth images the odometry decodes (no second decode); frames it
+  // does not decode (pairs from its cache) are decoded by the extraction itself.
+  std::optional<FeatureExtraction> extraction;
+  if (args.extract_features) {
+    FeatureRun feature_run;
+    feature_run.quiet = args.quiet;
+    if (args.use_cache) feature_run.cache_file = out / "cache" / "features.f2cf";
+    extraction.emplace(seq, args.features, feature_run);
+  }
+  OdometryRun run;
+  run.quiet = args.quiet;
+  if (args.use_cache) run.cache_file = out / "cache" / "odometry_pairs.json";
+  if (extraction) run.on_depth = [&](int frame, const cv::Mat& depth) { extraction->Compute(frame, depth); };
+  const Odometry odometry = AlignConsecutive(seq, args.odometry, run);
+  const json stats = PairStatistics(odometry.pairs);
+  spdlog::info("odometry: {} pairs ({} SIFT, {} ICP, {} motion prior) in {:.1f} s",
+               odometry.pairs.size(), stats["sift"].get<int>(), stats["icp"].get<int>(),
+               stats["motion_prior"].get<int>(), odometry.timings.wall);
+
+  json feature_stage = nullptr, feature_stats = nullptr;
+  if (extraction) {
+    FeatureTimings timings;
+    const FeatureSet features = extraction->Finish(&timings);
+    feature_stage = ToJson(timings, static_cast<int>(seq.frames.size()));
+    feature_stats = FeatureStatistics(features);
+    spdlog::info("features: {:.0f} per frame, {:.1f} proxies per frame ({:.1f} s of CPU)",
+                 feature_stats["per_frame"]["features"].get<double>(),
+                 feature_stats["per_frame"]["proxies"].get<double>(), timings.extract + timings.decode);
+  }
+
+  WriteTumTrajectory(out / "trajectory.txt", odometry.t0);
+  WriteLogTrajectory(out / "trajectory.log", odometry.t0);
+  WriteConf(out / "trajectory.conf", seq, odometry.t0);
+  WriteFileAtomic(out / "odometry.json", PairsToJson(odometry.pairs).dump(1) + "\n");
+
+  const CameraIntrinsics& k = *seq.intrinsics;
+  json outputs = {"trajectory.txt", "trajectory.log", "trajectory.conf", "odometry.json"};
+  const bool features_cached = args.extract_features && args.use_cache;
+  if (features_cached) outputs.push_back("cache/features.f2cf");
+  const json report = {
+      {"input", fs::absolute(args.input).string()},
+      {"layout", LayoutName(seq.layout)},
+      {"frames", seq.frames.size()},
+      {"intrinsics", {{"fx", k.fx}, {"fy", k.fy}, {"cx", k.cx}, {"cy", k.cy}, {"source", seq.intrinsics_source}}},
+      {"versions", Versions()},
+      {"options",
+       {{"io", ToJson(args.io)},
+        {"odometry", ToJson(args.odometry)},
+        {"features", args.extract_features ? ToJson(args.features) : json(nullptr)},
+        {"cache", args.use_cache}}},
+      {"stages",
+       {{"read", {{"wall_s", read_s}}},
+        {"odometry", ToJson(odometry.timings, static_cast<int>(seq.frames.size()))},
+        {"features", feature_stage}}},
+      {"statistics", {{"odometry", stats}, {"features", feature_stats}}},
+      {"total_wall_s", total.Seconds()},
+      {"outputs", outputs},
+  };
+  WriteFileAtomic(out / "run.json", report.dump(2) + "\n");
+  std::printf("wrote %s (TUM), trajectory.log, trajectory.conf, odometry.json, run.json%s\n",
+              (out / "trajectory.txt").string().c_str(), features_cached ? ", cache/features.f2cf" : "");
+  std::printf("%zu frames in %.1f s (%.1f frames/s)\n", seq.frames.size(), total.Seconds(),
+              seq.frames.size() / total.Seconds());
+  return 0;
+}
+
+Subcommand AddRegisterCommand(CLI::App* app) {
+  auto args = std::make_shared<RegisterArgs>();
+  CLI::App* cmd = app->add_subcommand(
+      "register", "align consecutive frames (SIFT + 3D RANSAC, ICP fallback) into T0 and write "
+                  "OUTDIR/trajectory.txt (TUM), trajectory.log, trajectory.conf, odometry.json, run.json");
+  cmd->add_option("INPUT", args->input, "dataset folder (TUM, 7-Scenes/3DMatch, Redwood/Open3D, SUN3D) or .conf")
+      ->required();
+  cmd->add_option("-o,--output", args->output, "output folder")->required();
+  AddFrameSelection(cmd, &args->io);
+  auto& od = args->odometry;
+  cmd->add_option("--seed", od.seed, "seed of all random choices")->capture_default_str();
+  cmd->add_option("--min-depth", od.sift.min_depth, "nearest valid depth (m)")->capture_default_str();
+  cmd->add_option("--max-depth", od.sift.max_depth, "farthest valid depth (m)")->capture_default_str();
+  cmd->add_option("--sift-downscale", od.sift.downscale,
+                      "detect SIFT on the colour image shrunk by this factor (faster, coarser)")
+      ->capture_default_str();
+  cmd->add_option("--ratio", od.ratio, "SIFT ratio test")->capture_default_str();
+  cmd->add_option("--relaxed-ratio", od.relaxed_ratio, "ratio used when few matches pass")
+      ->capture_default_str();
+  cmd->add_option("--ransac-threshold", od.ransac.inlier_threshold, "RANSAC inlier distance (m)")
+      ->capture_default_str();
+  cmd->add_option("--ransac-iterations", od.ransac.max_iterations, "RANSAC iteration cap")
+      ->capture_default_str();
+  cmd->add_option("--robust-scale", od.ransac.robust_scale,
+                      "Cauchy scale (m) of the final reweighted refit on RANSAC inliers (0: off)")
+      ->capture_default_str();
+  cmd->add_option("--min-fitness", od.min_fitness,
+                      "SIFT answers whose depth overlap is lower are checked against ICP")
+      ->capture_default_str();
+  cmd->add_option("--min-inliers", od.min_inliers, "fewer SIFT inliers fall back to ICP")
+      ->capture_default_str();
+  AddFeatureOptions(cmd, &args->features);
+  auto flags = std::make_shared<RegisterFlags>();
+  cmd->add_flag("--no-features", flags->no_features, "skip the feature extraction (T0 only)");
+  cmd->add_flag("--no-icp-fallback", flags->no_icp, "never use depth-only ICP");
+  cmd->add_flag("--no-cache", flags->no_cache, "ignore and do not write OUTDIR/cache");
+  cmd->add_flag("-q,--quiet", args->quiet, "no progress output");
+
+  return {cmd, [args, flags] {
+    args->odometry.icp_fallback = !flags->no_icp;
+    args->extract_features = !flags->no_features;
+    args->use_cache = !flags->no_cache;
+    if (args->quiet) spdlog::set_level(spdlog::level::warn);
+    return RunRegister(*args);
+  }};
+}
+
+}  // namespace f2c::app
