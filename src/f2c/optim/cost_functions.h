@@ -1,0 +1,166 @@
+#pragma once
+// The residuals of the refinement's energy (paper §4.3), as small templated functors for
+// ceres::AutoDiffCostFunction. Poses are world_from_camera as optimised (optim/pose.h): a
+// quaternion block q (Eigen order x, y, z, w) and a translation block t, so
+//   x_world = R(q) x_camera + t.
+// Residuals are the unweighted errors in metres (and radians where a rotation is compared);
+// the problem builder (optim/problem.h) applies each term's weight and robust loss.
+
+#include <ceres/autodiff_cost_function.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace f2c {
+
+// Frame a's coordinates of a point given in frame b's: R_a^T (R_b p_b + t_b - t_a).
+template <typename T>
+Eigen::Matrix<T, 3, 1> PointFromBIntoA(const T* rotation_a, const T* translation_a, const T* rotation_b,
+                                       const T* translation_b, const Eigen::Vector3d& point_in_b) {
+  const Eigen::Map<const Eigen::Quaternion<T>> q_a(rotation_a);
+  const Eigen::Map<const Eigen::Quaternion<T>> q_b(rotation_b);
+  const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_a(translation_a);
+  const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_b(translation_b);
+  const Eigen::Matrix<T, 3, 1> point_in_world = q_b * point_in_b.cast<T>() + t_b;
+  return q_a.conjugate() * (point_in_world - t_a);
+}
+
+// E_C for planar features (paper §4.3, "Feature Correspondence Error"):
+//   r = n_a . (p_b - p_a)
+// with p_a, n_a frame a's feature and p_b frame b's, all in world coordinates. Rotations keep
+// dot products, so it is evaluated in frame a: r = n_a . (R_a^T (R_b p_b + t_b - t_a) - p_a).
+// One residual, metres.
+struct PointToPlaneCost {
+  PointToPlaneCost(const Eigen::Vector3d& point_in_a, const Eigen::Vector3d& normal_in_a,
+                   const Eigen::Vector3d& point_in_b)
+      : point_in_a_(point_in_a), normal_in_a_(normal_in_a), point_in_b_(point_in_b) {}
+
+  template <typename T>
+  bool operator()(const T* rotation_a, const T* translation_a, const T* rotation_b, const T* translation_b,
+                  T* residual) const {
+    const Eigen::Matrix<T, 3, 1> p_b = PointFromBIntoA(rotation_a, translation_a, rotation_b, translation_b, point_in_b_);
+    residual[0] = normal_in_a_.cast<T>().dot(p_b - point_in_a_.cast<T>());
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Vector3d& point_in_a, const Eigen::Vector3d& normal_in_a,
+                                     const Eigen::Vector3d& point_in_b) {
+    return new ceres::AutoDiffCostFunction<PointToPlaneCost, 1, 4, 3, 4, 3>(
+        new PointToPlaneCost(point_in_a, normal_in_a, point_in_b));
+  }
+
+ private:
+  Eigen::Vector3d point_in_a_, normal_in_a_, point_in_b_;
+};
+
+// E_C for edge features (paper §4.3): the distance of p_b from the line through p_a along
+// frame a's unit edge direction d_a,
+//   r = (p_b - p_a) x d_a       (three residuals; |r| is the distance, metres)
+// evaluated in frame a as above (a rotation of the cross product keeps its length).
+struct PointToLineCost {
+  PointToLineCost(const Eigen::Vector3d& point_in_a, const Eigen::Vector3d& direction_in_a,
+                  const Eigen::Vector3d& point_in_b)
+      : point_in_a_(point_in_a), direction_in_a_(direction_in_a), point_in_b_(point_in_b) {}
+
+  template <typename T>
+  bool operator()(const T* rotation_a, const T* translation_a, const T* rotation_b, const T* translation_b,
+                  T* residual) const {
+    const Eigen::Matrix<T, 3, 1> p_b = PointFromBIntoA(rotation_a, translation_a, rotation_b, translation_b, point_in_b_);
+    const Eigen::Matrix<T, 3, 1> r = (p_b - point_in_a_.cast<T>()).cross(direction_in_a_.cast<T>());
+    residual[0] = r[0];
+    residual[1] = r[1];
+    residual[2] = r[2];
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Vector3d& point_in_a, const Eigen::Vector3d& direction_in_a,
+                                     const Eigen::Vector3d& point_in_b) {
+    return new ceres::AutoDiffCostFunction<PointToLineCost, 3, 4, 3, 4, 3>(
+        new PointToLineCost(point_in_a, direction_in_a, point_in_b));
+  }
+
+ private:
+  Eigen::Vector3d point_in_a_, direction_in_a_, point_in_b_;
+};
+
+// The misalignment of two rigid transforms, E_t of the paper's E_L: with the measured
+// a_from_b = (q_m, t_m) and the estimate a_from_b = T_a^-1 T_b = (q_a^-1 q_b, q_a^-1 (t_b - t_a)),
+//   r[0..2] = s_t (t_est - t_m)                      metres
+//   r[3..5] = s_r 2 vec(q_m^-1 q_est)                radians for small errors (|.| = 2 sin(angle/2))
+// s_t, s_r are square roots of the weights (s_r converts radians to the units the energy
+// compares them in, metres at a lever arm of s_r / s_t).
+struct RelativePoseCost {
+  RelativePoseCost(const Eigen::Quaterniond& measured_rotation_a_from_b, const Eigen::Vector3d& measured_translation_a_from_b,
+                   double sqrt_weight_translation, double sqrt_weight_rotation)
+      : rotation_inverse_(measured_rotation_a_from_b.conjugate()),
+        translation_(measured_translation_a_from_b),
+        s_t_(sqrt_weight_translation),
+        s_r_(sqrt_weight_rotation) {}
+
+  template <typename T>
+  bool operator()(const T* rotation_a, const T* translation_a, const T* rotation_b, const T* translation_b,
+                  T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q_a(rotation_a);
+    const Eigen::Map<const Eigen::Quaternion<T>> q_b(rotation_b);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_a(translation_a);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_b(translation_b);
+    const Eigen::Quaternion<T> q_a_inverse = q_a.conjugate();
+    const Eigen::Matrix<T, 3, 1> t_est = q_a_inverse * (t_b - t_a);
+    const Eigen::Quaternion<T> delta = rotation_inverse_.cast<T>() * (q_a_inverse * q_b);
+    for (int i = 0; i < 3; ++i) {
+      residual[i] = T(s_t_) * (t_est[i] - T(translation_[i]));
+      residual[3 + i] = T(2.0 * s_r_) * delta.vec()[i];
+    }
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Quaterniond& measured_rotation_a_from_b,
+                                     const Eigen::Vector3d& measured_translation_a_from_b,
+                                     double sqrt_weight_translation, double sqrt_weight_rotation) {
+    return new ceres::AutoDiffCostFunction<RelativePoseCost, 6, 4, 3, 4, 3>(new RelativePoseCost(
+        measured_rotation_a_from_b, measured_translation_a_from_b, sqrt_weight_translation, sqrt_weight_rotation));
+  }
+
+ private:
+  Eigen::Quaterniond rotation_inverse_;
+  Eigen::Vector3d translation_;
+  double s_t_, s_r_;
+};
+
+// E_I, inertia (paper §4.3): a pose's change from its value in the previous iteration (q_p, t_p),
+//   r[0..2] = s_t (t - t_p)          r[3..5] = s_r 2 vec(q_p^-1 q)
+// (the paper compares Euler angles; for the small changes this term sees, 2 vec(q_p^-1 q) is
+// the rotation vector of the change to first order, and it has no gimbal lock).
+struct PoseChangeCost {
+  PoseChangeCost(const Eigen::Quaterniond& previous_rotation, const Eigen::Vector3d& previous_translation,
+                 double sqrt_weight_translation, double sqrt_weight_rotation)
+      : rotation_inverse_(previous_rotation.conjugate()),
+        translation_(previous_translation),
+        s_t_(sqrt_weight_translation),
+        s_r_(sqrt_weight_rotation) {}
+
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(rotation);
+    const Eigen::Quaternion<T> delta = rotation_inverse_.cast<T>() * q;
+    for (int i = 0; i < 3; ++i) {
+      residual[i] = T(s_t_) * (translation[i] - T(translation_[i]));
+      residual[3 + i] = T(2.0 * s_r_) * delta.vec()[i];
+    }
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Quaterniond& previous_rotation,
+                                     const Eigen::Vector3d& previous_translation, double sqrt_weight_translation,
+                                     double sqrt_weight_rotation) {
+    return new ceres::AutoDiffCostFunction<PoseChangeCost, 6, 4, 3>(new PoseChangeCost(
+        previous_rotation, previous_translation, sqrt_weight_translation, sqrt_weight_rotation));
+  }
+
+ private:
+  Eigen::Quaterniond rotation_inverse_;
+  Eigen::Vector3d translation_;
+  double s_t_, s_r_;
+};
+
+}  // namespace f2c
