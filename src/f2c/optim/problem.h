@@ -1,0 +1,65 @@
+#pragma once
+// One refinement iteration's optimisation (paper §4.3):
+//   argmin_T  w_C E_C(T, C) + w_L E_L(T) + w_I E_I(T)
+// over every camera pose but the first, which is held fixed (the gauge). Each term's weight
+// is a total shared among its residuals, as in the authors' code (DESIGN.md §2): a residual
+// of a term with N residuals and relative weights v_i gets w v_i / sum(v), so the balance of
+// the terms does not change with how many constraints an iteration finds. E_C residuals go
+// through a robust loss (metres). Solved with Ceres: sparse normal Cholesky (SuiteSparse),
+// poses on EigenQuaternionManifold x R^3. Part 2's structure terms add residual blocks to the
+// same problem.
+
+#include <map>
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+#include <vector>
+
+#include "f2c/optim/constraints.h"
+#include "f2c/optim/pose.h"
+
+namespace f2c {
+
+enum class RobustLoss { kNone, kHuber, kCauchy };
+const char* RobustLossName(RobustLoss loss);
+RobustLoss RobustLossFromName(const std::string& name);  // InputError for an unknown name
+
+struct SolverOptions {
+  // Term totals. The authors' code: E_C 1500 -> 1000 over the iterations, E_L 1000, E_I 1.
+  double weight_correspondence = 1000;
+  double weight_local = 1000;
+  double weight_inertia = 1;
+  // E_L and E_I compare rotations as the displacement they cause at this distance from the
+  // camera (metres per radian): a Kinect-class sensor sees surfaces at about 1-3 m.
+  double rotation_lever_arm = 1.0;
+  RobustLoss loss = RobustLoss::kCauchy;
+  double loss_scale = 0.02;  // metres
+  // Ceres iterations per refinement iteration; one_step: a single Gauss-Newton step, as the
+  // authors take.
+  int max_iterations = 50;
+  bool one_step = false;
+  double function_tolerance = 1e-6;
+  int threads = 1;  // Ceres' threads (results depend on summation order with more)
+
+  void Check() const;  // InputError naming the field when out of range
+};
+
+struct SolveSummary {
+  // Weighted cost of each term (Ceres' 1/2 sum of robustified squares), before and after.
+  std::map<std::string, double> cost_before, cost_after;
+  std::map<std::string, int> residual_blocks;
+  int iterations = 0;          // Ceres iterations
+  std::string termination;     // Ceres' termination type
+  bool usable = false;
+  double seconds = 0;
+};
+
+// Minimises the energy above, starting from and writing to `poses` (world_from_camera, one
+// per frame). The poses on entry are E_I's reference.
+SolveSummary SolvePoses(const std::vector<Correspondence>& correspondences,
+                        const std::vector<RelativePoseConstraint>& local, const SolverOptions& options,
+                        PoseVector* poses);
+
+nlohmann::json ToJson(const SolverOptions& options);
+nlohmann::json ToJson(const SolveSummary& summary);
+
+}  // namespace f2c
