@@ -11,6 +11,7 @@
 #include "f2c/features/depth_features.h"
 #include "f2c/io/sequence.h"
 #include "f2c/odometry/odometry.h"
+#include "f2c/refine/refine.h"
 
 namespace f2c::app {
 
@@ -34,6 +35,9 @@ struct RegisterArgs {
   OdometryOptions odometry;
   FeatureOptions features;
   bool extract_features = true;  // the refinement's input; cached in OUTDIR/cache/features.f2cf
+  RefineOptions refine;
+  bool run_refinement = true;     // false: --stop-after odometry (T0 is the result)
+  bool save_iterations = false;   // OUTDIR/iterations/iteration_NN.txt
   bool use_cache = true;
   bool quiet = false;
 };

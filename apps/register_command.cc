@@ -9,10 +9,12 @@
 
 #include "apps/commands.h"
 #include "apps/common.h"
+#include "apps/refine_options.h"
 #include "f2c/features/feature_set.h"
 #include "f2c/io/conf.h"
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
+#include "f2c/util/memory.h"
 #include "f2c/util/timer.h"
 
 namespace f2c::app {
@@ -47,7 +49,21 @@ json PairStatistics(const std::vector<PairAlignment>& pairs) {
 
 struct RegisterFlags {
   bool no_icp = false, no_cache = false, no_features = false;
+  std::string stop_after = "refine";
 };
+
+void WriteTrajectories(const fs::path& out, const RgbdSequence& seq, const Trajectory& trajectory) {
+  WriteTumTrajectory(out / "trajectory.txt", trajectory);
+  WriteLogTrajectory(out / "trajectory.log", trajectory);
+  WriteConf(out / "trajectory.conf", seq, trajectory);
+}
+
+Trajectory ToTrajectory(const Trajectory& like, const PoseVector& poses) {
+  Trajectory t;
+  t.has_timestamps = like.has_timestamps;
+  for (size_t k = 0; k < poses.size(); ++k) t.Add(like.timestamps[k], poses[k].ToRigid());
+  return t;
+}
 
 }  // namespace
 
@@ -82,6 +98,8 @@ int RunRegister(const RegisterArgs& args) {
                stats["motion_prior"].get<int>(), odometry.timings.wall);
 
   json feature_stage = nullptr, feature_stats = nullptr;
+  std::optional<FeatureIndex> index;
+  double index_s = 0;
   if (extraction) {
     FeatureTimings timings;
     const FeatureSet features = extraction->Finish(&timings);
@@ -90,15 +108,46 @@ int RunRegister(const RegisterArgs& args) {
     spdlog::info("features: {:.0f} per frame, {:.1f} proxies per frame ({:.1f} s of CPU)",
                  feature_stats["per_frame"]["features"].get<double>(),
                  feature_stats["per_frame"]["proxies"].get<double>(), timings.extract + timings.decode);
+    if (args.run_refinement) {
+      // The refinement keeps a compact subsample with k-d trees; the full set is dropped here.
+      Timer index_timer;
+      index = BuildFeatureIndex(features, args.refine.features);
+      index_s = index_timer.Seconds();
+    }
   }
 
-  WriteTumTrajectory(out / "trajectory.txt", odometry.t0);
-  WriteLogTrajectory(out / "trajectory.log", odometry.t0);
-  WriteConf(out / "trajectory.conf", seq, odometry.t0);
+  WriteTumTrajectory(out / "trajectory_t0.txt", odometry.t0);
+  Trajectory result = odometry.t0;
+  json refine_stage = nullptr;
+  if (index) {
+    RefineRun refine_run;
+    refine_run.quiet = args.quiet;
+    refine_run.keep_iterations = args.save_iterations;
+    const RefineResult refined = RefineFineToCoarse(*index, odometry.pairs, odometry.t0, *seq.intrinsics, args.refine, refine_run);
+    result = ToTrajectory(odometry.t0, refined.poses);
+    json iterations = json::array();
+    for (const IterationSummary& s : refined.iterations) iterations.push_back(ToJson(s));
+    refine_stage = {{"wall_s", refined.seconds + index_s},
+                    {"index_s", index_s},
+                    {"ms_per_frame", 1000.0 * (refined.seconds + index_s) / seq.frames.size()},
+                    {"index_bytes", index->MemoryBytes()},
+                    {"iterations", iterations}};
+    spdlog::info("refinement: {} iterations in {:.1f} s ({:.1f} ms per frame)", refined.iterations.size(),
+                 refined.seconds + index_s, 1000.0 * (refined.seconds + index_s) / seq.frames.size());
+    if (args.save_iterations) {
+      fs::create_directories(out / "iterations");
+      for (size_t i = 0; i < refined.iteration_poses.size(); ++i) {
+        WriteTumTrajectory(out / "iterations" / fmt::format("iteration_{:02d}.txt", i + 1),
+                           ToTrajectory(odometry.t0, refined.iteration_poses[i]));
+      }
+    }
+  }
+  WriteTrajectories(out, seq, result);
   WriteFileAtomic(out / "odometry.json", PairsToJson(odometry.pairs).dump(1) + "\n");
 
   const CameraIntrinsics& k = *seq.intrinsics;
-  json outputs = {"trajectory.txt", "trajectory.log", "trajectory.conf", "odometry.json"};
+  json outputs = {"trajectory.txt", "trajectory.log", "trajectory.conf", "trajectory_t0.txt", "odometry.json"};
+  if (args.save_iterations && index) outputs.push_back("iterations/");
   const bool features_cached = args.extract_features && args.use_cache;
   if (features_cached) outputs.push_back("cache/features.f2cf");
   const json report = {
@@ -111,18 +160,23 @@ int RunRegister(const RegisterArgs& args) {
        {{"io", ToJson(args.io)},
         {"odometry", ToJson(args.odometry)},
         {"features", args.extract_features ? ToJson(args.features) : json(nullptr)},
+        {"refine", index ? ToJson(args.refine) : json(nullptr)},
         {"cache", args.use_cache}}},
       {"stages",
        {{"read", {{"wall_s", read_s}}},
         {"odometry", ToJson(odometry.timings, static_cast<int>(seq.frames.size()))},
-        {"features", feature_stage}}},
+        {"features", feature_stage},
+        {"refine", refine_stage}}},
       {"statistics", {{"odometry", stats}, {"features", feature_stats}}},
+      {"result", index ? "refined" : "t0"},
       {"total_wall_s", total.Seconds()},
+      {"peak_memory_bytes", PeakResidentBytes()},
       {"outputs", outputs},
   };
   WriteFileAtomic(out / "run.json", report.dump(2) + "\n");
-  std::printf("wrote %s (TUM), trajectory.log, trajectory.conf, odometry.json, run.json%s\n",
-              (out / "trajectory.txt").string().c_str(), features_cached ? ", cache/features.f2cf" : "");
+  std::printf("wrote %s (TUM; %s), trajectory.log, trajectory.conf, trajectory_t0.txt, odometry.json, run.json%s%s\n",
+              (out / "trajectory.txt").string().c_str(), index ? "refined" : "T0",
+              args.save_iterations && index ? ", iterations/" : "", features_cached ? ", cache/features.f2cf" : "");
   std::printf("%zu frames in %.1f s (%.1f frames/s)\n", seq.frames.size(), total.Seconds(),
               seq.frames.size() / total.Seconds());
   return 0;
@@ -131,8 +185,9 @@ int RunRegister(const RegisterArgs& args) {
 Subcommand AddRegisterCommand(CLI::App* app) {
   auto args = std::make_shared<RegisterArgs>();
   CLI::App* cmd = app->add_subcommand(
-      "register", "align consecutive frames (SIFT + 3D RANSAC, ICP fallback) into T0 and write "
-                  "OUTDIR/trajectory.txt (TUM), trajectory.log, trajectory.conf, odometry.json, run.json");
+      "register", "align consecutive frames (SIFT + 3D RANSAC, ICP fallback) into T0, refine it fine-to-coarse "
+                  "and write OUTDIR/trajectory.txt (TUM), trajectory.log, trajectory.conf, trajectory_t0.txt, "
+                  "odometry.json, run.json");
   cmd->add_option("INPUT", args->input, "dataset folder (TUM, 7-Scenes/3DMatch, Redwood/Open3D, SUN3D) or .conf")
       ->required();
   cmd->add_option("-o,--output", args->output, "output folder")->required();
@@ -161,12 +216,20 @@ Subcommand AddRegisterCommand(CLI::App* app) {
       ->capture_default_str();
   AddFeatureOptions(cmd, &args->features);
   auto flags = std::make_shared<RegisterFlags>();
-  cmd->add_flag("--no-features", flags->no_features, "skip the feature extraction (T0 only)");
+  cmd->add_option("--stop-after", flags->stop_after, "odometry: T0 is the result; refine: the fine-to-coarse refinement")
+      ->check(CLI::IsMember({"odometry", "refine"}))
+      ->capture_default_str();
+  const std::function<void()> refine_names = AddRefineOptions(cmd, &args->refine);
+  cmd->add_flag("--save-iterations", args->save_iterations, "write each refinement iteration's trajectory to OUTDIR/iterations/");
+  cmd->add_flag("--no-features", flags->no_features, "skip the feature extraction, and so the refinement (T0 only)");
   cmd->add_flag("--no-icp-fallback", flags->no_icp, "never use depth-only ICP");
   cmd->add_flag("--no-cache", flags->no_cache, "ignore and do not write OUTDIR/cache");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress output");
 
-  return {cmd, [args, flags] {
+  return {cmd, [args, flags, refine_names] {
+    refine_names();
+    args->run_refinement = flags->stop_after == "refine" && !flags->no_features;
+    if (args->run_refinement) args->refine.Check();  // before minutes of odometry
     args->odometry.icp_fallback = !flags->no_icp;
     args->extract_features = !flags->no_features;
     args->use_cache = !flags->no_cache;

@@ -14,7 +14,7 @@ namespace f2c {
 // frame `target_frame`: a plane (point + normal) or an edge (point + unit direction).
 enum class CorrespondenceKind : uint8_t { kPointToPlane, kPointToLine };
 
-struct Correspondence {
+struct FeatureCorrespondence {
   int32_t target_frame = 0;  // frame a of the cost functors: its plane or line
   int32_t point_frame = 0;   // frame b: its point
   CorrespondenceKind kind = CorrespondenceKind::kPointToPlane;

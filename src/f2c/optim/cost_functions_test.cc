@@ -182,5 +182,36 @@ TEST_F(CostFunctions, PoseChangeVanishesAtThePreviousPoseAndMeasuresTheChange) {
   ExpectJacobiansMatch(*cost, blocks, {&quaternion, nullptr});
 }
 
+// The analytic E_C costs compute the AutoDiff functors' residuals and Jacobians exactly, at
+// unit and non-unit quaternions alike, and pass the same central-difference checks.
+TEST_F(CostFunctions, AnalyticCostsEqualTheirAutoDiffFunctors) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g(0, 1);
+  for (int trial = 0; trial < 20; ++trial) {
+    a_ = RandomPose(rng);
+    b_ = RandomPose(rng);
+    if (trial % 2) a_.rotation.coeffs() *= 1.3;  // off the sphere
+    const Eigen::Vector3d p_a(g(rng), g(rng), 2 + g(rng)), p_b(g(rng), g(rng), 2 + g(rng));
+    const Eigen::Vector3d dir = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+    for (int line = 0; line < 2; ++line) {
+      std::unique_ptr<ceres::CostFunction> reference(line ? PointToLineCost::Create(p_a, dir, p_b)
+                                                          : PointToPlaneCost::Create(p_a, dir, p_b));
+      std::unique_ptr<ceres::CostFunction> analytic(line ? static_cast<ceres::CostFunction*>(new AnalyticPointToLineCost(p_a, dir, p_b))
+                                                         : new AnalyticPointToPlaneCost(p_a, dir, p_b));
+      const int m = reference->num_residuals();
+      ASSERT_EQ(analytic->num_residuals(), m);
+      std::vector<double> r1(m), r2(m), j1(m * 14), j2(m * 14);
+      double* jac1[4] = {j1.data(), j1.data() + 4 * m, j1.data() + 7 * m, j1.data() + 11 * m};
+      double* jac2[4] = {j2.data(), j2.data() + 4 * m, j2.data() + 7 * m, j2.data() + 11 * m};
+      std::vector<double*> blocks = Blocks();
+      ASSERT_TRUE(reference->Evaluate(blocks.data(), r1.data(), jac1));
+      ASSERT_TRUE(analytic->Evaluate(blocks.data(), r2.data(), jac2));
+      for (int i = 0; i < m; ++i) EXPECT_NEAR(r1[i], r2[i], 1e-12);
+      for (int i = 0; i < m * 14; ++i) EXPECT_NEAR(j1[i], j2[i], 1e-11) << "line " << line << " entry " << i;
+      if (trial == 0) ExpectJacobiansMatch(*analytic, blocks, Manifolds());
+    }
+  }
+}
+
 }  // namespace
 }  // namespace f2c

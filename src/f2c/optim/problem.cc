@@ -112,7 +112,7 @@ class PoseProblem {
 
 }  // namespace
 
-SolveSummary SolvePoses(const std::vector<Correspondence>& correspondences,
+SolveSummary SolvePoses(const std::vector<FeatureCorrespondence>& correspondences,
                         const std::vector<RelativePoseConstraint>& local, const SolverOptions& options,
                         PoseVector* poses) {
   options.Check();
@@ -136,18 +136,18 @@ SolveSummary SolvePoses(const std::vector<Correspondence>& correspondences,
 
   // E_C: point-to-plane and point-to-line, each weighted w_C v_i / sum(v), robustified.
   double sum_c = 0;
-  for (const Correspondence& c : correspondences) sum_c += c.weight;
-  for (const Correspondence& c : correspondences) {
+  for (const FeatureCorrespondence& c : correspondences) sum_c += c.weight;
+  for (const FeatureCorrespondence& c : correspondences) {
     if (options.weight_correspondence == 0 || sum_c <= 0) break;
     F2C_CHECK(c.target_frame >= 0 && c.target_frame < n && c.point_frame >= 0 && c.point_frame < n,
               "correspondence frames in range");
     const double w = options.weight_correspondence * c.weight / sum_c;
     ceres::CostFunction* cost =
         c.kind == CorrespondenceKind::kPointToPlane
-            ? PointToPlaneCost::Create(c.target_point.cast<double>(), c.target_direction.cast<double>(),
-                                       c.point.cast<double>())
-            : PointToLineCost::Create(c.target_point.cast<double>(), c.target_direction.cast<double>(),
-                                      c.point.cast<double>());
+            ? static_cast<ceres::CostFunction*>(new AnalyticPointToPlaneCost(
+                  c.target_point.cast<double>(), c.target_direction.cast<double>(), c.point.cast<double>()))
+            : new AnalyticPointToLineCost(c.target_point.cast<double>(), c.target_direction.cast<double>(),
+                                          c.point.cast<double>());
     pp.Add(kTermC, cost, pp.Loss(options.loss, options.loss_scale, w), blocks(c.target_frame, c.point_frame));
   }
 

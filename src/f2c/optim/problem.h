@@ -55,7 +55,7 @@ struct SolveSummary {
 
 // Minimises the energy above, starting from and writing to `poses` (world_from_camera, one
 // per frame). The poses on entry are E_I's reference.
-SolveSummary SolvePoses(const std::vector<Correspondence>& correspondences,
+SolveSummary SolvePoses(const std::vector<FeatureCorrespondence>& correspondences,
                         const std::vector<RelativePoseConstraint>& local, const SolverOptions& options,
                         PoseVector* poses);
 

@@ -34,9 +34,9 @@ Eigen::Vector3d InCamera(const Pose& pose, const Eigen::Vector3d& x) { return po
 
 // Exact correspondences between every pair of frames: points on each plane and on the two
 // wall-floor edges, each frame sampling its own points.
-std::vector<Correspondence> ExactCorrespondences(const Scene& scene, std::mt19937& rng) {
+std::vector<FeatureCorrespondence> ExactCorrespondences(const Scene& scene, std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-1.5, 1.5);
-  std::vector<Correspondence> out;
+  std::vector<FeatureCorrespondence> out;
   const int n = static_cast<int>(scene.truth.size());
   for (int a = 0; a < n; ++a) {
     for (int b = 0; b < n; ++b) {
@@ -50,7 +50,7 @@ std::vector<Correspondence> ExactCorrespondences(const Scene& scene, std::mt1993
           Eigen::Vector3d x(u(rng), u(rng), 1.0 + 0.5 * u(rng));
           return x - (normal.dot(x) - scene.plane_offsets[plane]) * normal;
         };
-        Correspondence c;
+        FeatureCorrespondence c;
         c.target_frame = a;
         c.point_frame = b;
         c.target_point = InCamera(pa, on_plane()).cast<float>();
@@ -63,7 +63,7 @@ std::vector<Correspondence> ExactCorrespondences(const Scene& scene, std::mt1993
         const bool along_y = k % 2 == 0;
         const Eigen::Vector3d direction = along_y ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
         auto on_edge = [&]() -> Eigen::Vector3d { return along_y ? Eigen::Vector3d(-2.0, u(rng), 0) : Eigen::Vector3d(u(rng), -2.5, 0); };
-        Correspondence c;
+        FeatureCorrespondence c;
         c.target_frame = a;
         c.point_frame = b;
         c.kind = CorrespondenceKind::kPointToLine;
@@ -102,7 +102,7 @@ double MaxRotationErrorDeg(const PoseVector& a, const PoseVector& b) {
 TEST(SolvePoses, CorrespondencesAloneRecoverPerturbedPoses) {
   const Scene scene = MakeScene(6);
   std::mt19937 rng(3);
-  const std::vector<Correspondence> c = ExactCorrespondences(scene, rng);
+  const std::vector<FeatureCorrespondence> c = ExactCorrespondences(scene, rng);
   PoseVector poses = Perturb(scene.truth, 0.03, 0.02, rng);
   SolverOptions options;
   options.weight_inertia = 1e-6;  // the reference here is the perturbed start
@@ -155,7 +155,7 @@ TEST(SolvePoses, TermWeightsAreTotalsSharedAmongResiduals) {
 TEST(SolvePoses, OneGaussNewtonStepReducesTheCost) {
   const Scene scene = MakeScene(6);
   std::mt19937 rng(9);
-  const std::vector<Correspondence> c = ExactCorrespondences(scene, rng);
+  const std::vector<FeatureCorrespondence> c = ExactCorrespondences(scene, rng);
   PoseVector poses = Perturb(scene.truth, 0.02, 0.01, rng);
   SolverOptions options;
   options.one_step = true;

@@ -47,6 +47,7 @@ class WindowSchedule {
   WindowSchedule(const WindowOptions& options, std::vector<double> path);
 
   int frames() const { return static_cast<int>(position_.size()); }
+  WindowMode mode() const { return options_.mode; }
   int iterations() const { return iterations_; }
   // Window length of iteration i: frames, or metres in path mode.
   double Length(int iteration) const;

@@ -1,0 +1,75 @@
+#include "apps/refine_options.h"
+
+#include <memory>
+#include <string>
+
+namespace f2c::app {
+
+std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
+  auto add = [&](const std::string& group, const std::string& name, auto* value, const std::string& help) {
+    cmd->add_option(name, *value, help)->capture_default_str()->group(group);
+  };
+  struct Names {
+    std::string windows = "frames", thresholds = "age", loss = "cauchy";
+  };
+  auto names = std::make_shared<Names>();
+  names->windows = WindowModeName(o->windows.mode);
+  names->thresholds = ThresholdScheduleName(o->correspondences.schedule);
+  names->loss = RobustLossName(o->solver.loss);
+
+  const std::string w = "Refinement: windows (paper 4.2)";
+  add(w, "--windows", &names->windows, "frames: l_0 consecutive frames, doubling (the paper); path: by camera path (the authors' code)");
+  add(w, "--window-frames", &o->windows.initial_frames, "l_0, frames in the first windows");
+  add(w, "--window-path", &o->windows.initial_path, "path windows: the first windows' length (m)");
+  add(w, "--window-path-cap", &o->windows.path_cap, "path windows: longest window, times the scan's path");
+  add(w, "--extra-iterations", &o->windows.extra_iterations, "iterations after one window holds the whole scan");
+
+  const std::string p = "Refinement: frame pairs and correspondences (paper 4.2)";
+  add(p, "--max-plane-features", &o->features.max_planes, "plane features kept per frame");
+  add(p, "--max-edge-features", &o->features.max_edges, "edge features kept per frame");
+  cmd->add_flag("--use-shadows", o->features.use_shadows, "also match shadow edges (view-dependent)")->group(p);
+  cmd->add_flag("--use-borders", o->features.use_borders, "also match image-border points (view-dependent)")->group(p);
+  add(p, "--pair-cell-size", &o->pairs.cell_size, "grid of frames' feature centroids for pair candidates (m)");
+  add(p, "--min-overlap", &o->pairs.min_overlap, "pairs: share of one frame's points the other camera sees");
+  add(p, "--max-view-angle", &o->pairs.max_view_angle_deg, "pairs: largest angle between optical axes (deg)");
+  add(p, "--pairs-per-octave", &o->pairs.per_octave, "partners per frame and power-of-two frame gap");
+  add(p, "--max-distance-initial", &o->correspondences.initial_max_distance, "correspondence distance when a pair first shares a window (m)");
+  add(p, "--max-distance-final", &o->correspondences.final_max_distance, "...decreasing linearly to this (m)");
+  add(p, "--max-angle-initial", &o->correspondences.initial_max_angle_deg, "normal/direction angle when a pair first shares a window (deg)");
+  add(p, "--max-angle-final", &o->correspondences.final_max_angle_deg, "...decreasing linearly to this (deg)");
+  add(p, "--threshold-decay", &o->correspondences.decay_iterations, "iterations from the initial to the final thresholds");
+  add(p, "--thresholds", &names->thresholds, "age: by iterations together (the paper); path: per pair by camera path (the authors' code)");
+  add(p, "--correspondences-per-frame", &o->correspondences.per_frame, "|C| = this times the frames, per iteration");
+  add(p, "--min-correspondences-per-pair", &o->correspondences.min_per_pair, "each pair's share at least this");
+  auto& tw = o->correspondences.type_weights;
+  add(p, "--weight-plane", &tw[0], "E_C weight of plane correspondences (relative)");
+  add(p, "--weight-silhouette", &tw[1], "...of silhouette edges");
+  add(p, "--weight-ridge", &tw[4], "...of ridges");
+  add(p, "--weight-valley", &tw[5], "...of valleys");
+
+  const std::string e = "Refinement: energy and solver (paper 4.3)";
+  add(e, "--weight-correspondence", &o->solver.weight_correspondence, "w_C, E_C's total weight");
+  add(e, "--weight-correspondence-initial", &o->weight_correspondence_initial,
+      "w_C in the first iteration, linear to --weight-correspondence in the last (the authors: 1500); < 0: constant");
+  add(e, "--weight-local", &o->solver.weight_local, "w_L, E_L's total weight");
+  add(e, "--weight-inertia", &o->solver.weight_inertia, "w_I, E_I's total weight");
+  add(e, "--rotation-lever-arm", &o->solver.rotation_lever_arm, "E_L/E_I compare rotations at this distance (m/rad)");
+  add(e, "--local-max-power", &o->local.max_power, "E_L between frames j and j + 2^k, k <= this");
+  add(e, "--local-icp-weight", &o->local.icp_weight, "E_L confidence of ICP-fallback pairs (SIFT pairs up to 1)");
+  add(e, "--local-prior-weight", &o->local.prior_weight, "E_L confidence of motion-prior pairs");
+  add(e, "--local-distance-sigma", &o->local.distance_sigma, "E_L weight exp(-d^2/2s^2) by camera distance (m; 0: off)");
+  add(e, "--loss", &names->loss, "robust loss of E_C: none, huber, cauchy");
+  add(e, "--loss-scale", &o->solver.loss_scale, "its scale (m)");
+  add(e, "--solver-iterations", &o->solver.max_iterations, "Ceres iterations per refinement iteration");
+  cmd->add_flag("--one-step", o->solver.one_step, "one Gauss-Newton step per iteration (the authors' code)")->group(e);
+  add(e, "--solver-threads", &o->solver.threads, "Ceres threads (1 keeps results bit-identical)");
+  add(e, "--refine-seed", &o->correspondences.seed, "seed of the correspondence sampling");
+
+  return [o, names] {
+    o->windows.mode = WindowModeFromName(names->windows);
+    o->correspondences.schedule = ThresholdScheduleFromName(names->thresholds);
+    o->solver.loss = RobustLossFromName(names->loss);
+  };
+}
+
+}  // namespace f2c::app

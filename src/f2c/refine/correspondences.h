@@ -1,0 +1,81 @@
+#pragma once
+// Closest-feature correspondences E_C (paper §4.2, "Creating Feature Correspondences"): for
+// each candidate pair, features of one frame are moved into the other by the current poses
+// and matched to the closest compatible feature there, like ICP, without descriptors.
+// Compatible: same family (refine/feature_index.h), within max_distance, and directions
+// within max_angle (plane normals oriented, edge directions as lines).
+//
+// Thresholds (paper): 0.5 m / 45 deg the first time two frames share a window, decreasing
+// linearly to 0.15 m / 20 deg as they stay together (here over decay_iterations iterations).
+// The authors' code instead sets them per pair from the camera path between the frames,
+// min + sqrt(d / (L / 2)) (max - min) with L the window length (ThresholdSchedule::kPath).
+//
+// The total is subsampled to |C| = per_frame n (the paper: 100 n), spread evenly over the
+// pairs (half of each pair's share from each side), with seeded, deterministic sampling.
+
+#include <array>
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+#include <vector>
+
+#include "f2c/optim/constraints.h"
+#include "f2c/optim/pose.h"
+#include "f2c/refine/feature_index.h"
+#include "f2c/refine/pairs.h"
+#include "f2c/refine/windows.h"
+
+namespace f2c {
+
+enum class ThresholdSchedule { kAge, kPath };
+const char* ThresholdScheduleName(ThresholdSchedule schedule);
+ThresholdSchedule ThresholdScheduleFromName(const std::string& name);
+
+struct CorrespondenceOptions {
+  double initial_max_distance = 0.5;  // metres
+  double initial_max_angle_deg = 45;
+  double final_max_distance = 0.15;
+  double final_max_angle_deg = 20;
+  int decay_iterations = 3;  // kAge: iterations from the initial to the final thresholds
+  ThresholdSchedule schedule = ThresholdSchedule::kAge;
+  int per_frame = 100;    // |C| = per_frame n per iteration
+  int min_per_pair = 6;   // a pair's share is never below this (then |C| exceeds per_frame n)
+  double attempts = 3.0;  // features tried per correspondence wanted
+  int neighbours = 4;     // closest features checked for compatibility, nearest first
+  // Relative weights by the target feature's type (the authors': plane 1, silhouette 0.6,
+  // ridge and valley 0.2); shadows and borders when used.
+  std::array<double, kFeatureTypeCount> type_weights = {1.0, 0.6, 0.2, 0.2, 0.2, 0.2};
+  uint64_t seed = 0;
+
+  void Check() const;
+};
+
+struct Thresholds {
+  double max_distance = 0;  // metres
+  double max_angle = 0;     // radians
+};
+
+// kAge: thresholds after `age` iterations together (0: the first).
+Thresholds ThresholdsForAge(const CorrespondenceOptions& options, int age);
+// kPath: thresholds for frames `distance` metres of path apart in windows `window_length` long.
+Thresholds ThresholdsForPath(const CorrespondenceOptions& options, double distance, double window_length);
+
+struct CorrespondenceStats {
+  int pairs = 0;                 // candidate pairs searched
+  int pairs_matched = 0;         // pairs that gave at least one correspondence
+  int per_pair = 0;              // each pair's share
+  int64_t tried = 0;             // features moved and searched
+  std::array<int, kFeatureTypeCount> by_type{};  // by the target feature's type
+  int total() const;
+};
+
+// `path` holds each frame's camera path (metres), for kPath and path-window lengths.
+std::vector<FeatureCorrespondence> FindCorrespondences(const std::vector<FramePair>& pairs, const FeatureIndex& index,
+                                                const PoseVector& poses, const WindowSchedule& schedule,
+                                                int iteration, const std::vector<double>& path,
+                                                const CorrespondenceOptions& options,
+                                                CorrespondenceStats* stats = nullptr);
+
+nlohmann::json ToJson(const CorrespondenceOptions& options);
+nlohmann::json ToJson(const CorrespondenceStats& stats);
+
+}  // namespace f2c

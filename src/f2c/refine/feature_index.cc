@@ -1,0 +1,112 @@
+#include "f2c/refine/feature_index.h"
+
+#include <fmt/format.h>
+
+#include <nanoflann.hpp>
+#include <nlohmann/json.hpp>
+
+#include "f2c/util/error.h"
+
+namespace f2c {
+
+void FeatureIndexOptions::Check() const {
+  if (max_planes < 1) ThrowInputError("--max-plane-features", "must be >= 1");
+  if (max_edges < 1) ThrowInputError("--max-edge-features", "must be >= 1");
+  if (coverage_samples < 1) ThrowInputError("feature_index.coverage_samples", "must be >= 1");
+}
+
+struct FeatureCloud::Tree {
+  using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, FeatureCloud>, FeatureCloud,
+                                                    3, uint32_t>;
+  explicit Tree(const FeatureCloud& cloud) : index(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(12)) {}
+  Index index;
+};
+
+FeatureCloud::FeatureCloud() = default;
+FeatureCloud::~FeatureCloud() = default;
+
+void FeatureCloud::Add(const Feature& f) {
+  points_.push_back(f.position);
+  directions_.push_back(f.direction);
+  types_.push_back(static_cast<uint8_t>(f.type));
+}
+
+void FeatureCloud::Build() {
+  points_.shrink_to_fit();
+  directions_.shrink_to_fit();
+  types_.shrink_to_fit();
+  if (!points_.empty()) tree_ = std::make_unique<Tree>(*this);
+}
+
+int FeatureCloud::Nearest(const Eigen::Vector3f& query, int k, uint32_t* indices, float* squared_distances) const {
+  if (!tree_) return 0;
+  return static_cast<int>(tree_->index.knnSearch(query.data(), k, indices, squared_distances));
+}
+
+size_t FeatureCloud::MemoryBytes() const {
+  // Points, directions, types, and nanoflann's index array and nodes (about one node per
+  // leaf of up to 12 points, 2 per split).
+  const size_t n = points_.size();
+  return n * (2 * sizeof(Eigen::Vector3f) + 1 + sizeof(uint32_t)) + (n / 6 + 1) * 48;
+}
+
+bool FamilyOf(FeatureType type, const FeatureIndexOptions& options, FeatureFamily* family) {
+  switch (type) {
+    case FeatureType::kPlane: *family = FeatureFamily::kPlane; return true;
+    case FeatureType::kSilhouette:
+    case FeatureType::kRidge:
+    case FeatureType::kValley: *family = FeatureFamily::kEdge; return true;
+    case FeatureType::kShadow: *family = FeatureFamily::kEdge; return options.use_shadows;
+    case FeatureType::kBorder: *family = FeatureFamily::kEdge; return options.use_borders;
+  }
+  return false;
+}
+
+std::unique_ptr<FrameIndex> BuildFrameIndex(const FrameFeatures& features, const FeatureIndexOptions& options) {
+  auto frame = std::make_unique<FrameIndex>();
+  std::vector<int> members[kFeatureFamilyCount];
+  for (int i = 0; i < static_cast<int>(features.features.size()); ++i) {
+    FeatureFamily family;
+    if (FamilyOf(features.features[i].type, options, &family)) members[static_cast<int>(family)].push_back(i);
+  }
+  const int caps[kFeatureFamilyCount] = {options.max_planes, options.max_edges};
+  std::vector<int> kept;
+  for (int f = 0; f < kFeatureFamilyCount; ++f) {
+    const int n = static_cast<int>(members[f].size());
+    const int take = std::min(n, caps[f]);
+    // An even subsample in extraction order (the extraction orders features spatially).
+    for (int j = 0; j < take; ++j) {
+      const Feature& feature = features.features[members[f][static_cast<int64_t>(j) * n / take]];
+      frame->families[f].Add(feature);
+      frame->box.extend(feature.position);
+      frame->centroid += feature.position;
+      kept.push_back(members[f][static_cast<int64_t>(j) * n / take]);
+    }
+    frame->families[f].Build();
+  }
+  if (!kept.empty()) frame->centroid /= static_cast<float>(kept.size());
+  const int samples = std::min<int>(options.coverage_samples, static_cast<int>(kept.size()));
+  for (int j = 0; j < samples; ++j) {
+    frame->coverage.push_back(features.features[kept[static_cast<int64_t>(j) * kept.size() / samples]].position);
+  }
+  return frame;
+}
+
+size_t FeatureIndex::MemoryBytes() const {
+  size_t bytes = 0;
+  for (const auto& f : frames) {
+    bytes += sizeof(FrameIndex) + f->coverage.size() * sizeof(Eigen::Vector3f);
+    for (const FeatureCloud& c : f->families) bytes += c.MemoryBytes();
+  }
+  return bytes;
+}
+
+nlohmann::json ToJson(const FeatureIndexOptions& o) {
+  return {{"max_planes", o.max_planes},
+          {"max_edges", o.max_edges},
+          {"use_shadows", o.use_shadows},
+          {"use_borders", o.use_borders},
+          {"coverage_samples", o.coverage_samples}};
+}
+
+}  // namespace f2c

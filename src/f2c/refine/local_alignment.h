@@ -1,0 +1,45 @@
+#pragma once
+// E_L's constraints (paper §4.3, "Local Alignment Error"): the relative transforms that T0
+// holds between frames j and j + 2^k, k = 0..max_power, kept as the refinement moves poses, so
+// the trajectory keeps its local shape. Each is weighted by how much the odometry trusted the
+// pairs it chains (odometry.json), the weakest link deciding:
+//   confidence(pair) = method factor (SIFT 1, ICP fallback icp_weight, motion prior
+//                      prior_weight)
+//                    x sigmoid(inlier_slope (inliers - inlier_midpoint))   (SIFT pairs; the
+//                      authors' sigmoid of the SIFT inliers)
+//                    x ramp(fitness: fitness_low -> 0, fitness_high -> 1, at least min_ramp)
+// so an ICP fallback or a pair whose depth overlap is poor weighs less than a clean SIFT pair.
+// Optionally (the authors' code) longer spans weigh less: x exp(-d^2 / (2 distance_sigma^2)),
+// d the distance T0 puts between the two cameras.
+
+#include <nlohmann/json_fwd.hpp>
+#include <vector>
+
+#include "f2c/odometry/odometry.h"
+#include "f2c/optim/constraints.h"
+
+namespace f2c {
+
+struct LocalAlignmentOptions {
+  int max_power = 4;  // k_max: frames j + 1, 2, 4, 8, 16
+  double icp_weight = 0.3;
+  double prior_weight = 0.01;
+  double inlier_midpoint = 5;
+  double inlier_slope = 0.5;
+  double fitness_low = 0.4;
+  double fitness_high = 0.8;
+  double min_ramp = 0.05;
+  double distance_sigma = 0;  // metres; 0: off
+
+  void Check() const;
+};
+
+double PairConfidence(const PairAlignment& pair, const LocalAlignmentOptions& options);
+
+// pairs[k-1] aligns frame k to k-1 (odometry.h); one constraint per (j, j + 2^k) inside the scan.
+std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlignment>& pairs,
+                                                     const LocalAlignmentOptions& options);
+
+nlohmann::json ToJson(const LocalAlignmentOptions& options);
+
+}  // namespace f2c

@@ -1,0 +1,139 @@
+#include "f2c/refine/refine.h"
+
+#include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
+
+#include <nlohmann/json.hpp>
+
+#include "f2c/util/error.h"
+#include "f2c/util/timer.h"
+
+namespace f2c {
+
+void RefineOptions::Check() const {
+  windows.Check();
+  features.Check();
+  pairs.Check();
+  correspondences.Check();
+  local.Check();
+  solver.Check();
+  if (!(weight_correspondence_initial < 0 || std::isfinite(weight_correspondence_initial))) {
+    ThrowInputError("--weight-correspondence-initial", "must be finite");
+  }
+}
+
+FeatureIndex BuildFeatureIndex(const FeatureSet& features, const FeatureIndexOptions& options) {
+  options.Check();
+  FeatureIndex index;
+  index.frames.resize(features.frames.size());
+  tbb::parallel_for(0, static_cast<int>(features.frames.size()),
+                    [&](int i) { index.frames[i] = BuildFrameIndex(features.frames[i], options); });
+  return index;
+}
+
+std::vector<double> CameraPath(const Trajectory& trajectory) {
+  std::vector<double> path(trajectory.size(), 0.0);
+  for (size_t k = 1; k < trajectory.size(); ++k) {
+    path[k] = path[k - 1] + (trajectory.world_from_camera[k].translation() -
+                             trajectory.world_from_camera[k - 1].translation()).norm();
+  }
+  return path;
+}
+
+RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<PairAlignment>& pairs,
+                                const Trajectory& t0, const CameraIntrinsics& intrinsics,
+                                const RefineOptions& options, const RefineRun& run) {
+  options.Check();
+  Timer total;
+  const int n = static_cast<int>(t0.size());
+  F2C_CHECK(static_cast<int>(index.frames.size()) == n && static_cast<int>(pairs.size()) + 1 == n,
+            "one index entry per frame, one odometry pair per consecutive frames");
+  RefineResult result;
+  for (const Rigid3d& pose : t0.world_from_camera) result.poses.push_back(Pose::FromRigid(pose));
+  const std::vector<double> path = CameraPath(t0);
+  const WindowSchedule schedule(options.windows, path);
+  const std::vector<RelativePoseConstraint> local = LocalConstraints(pairs, options.local);
+
+  for (int it = 0; it < schedule.iterations(); ++it) {
+    Timer timer;
+    IterationSummary s;
+    s.iteration = it;
+    s.window_length = schedule.Length(it);
+    s.windows = static_cast<int>(schedule.Windows(it).size());
+    s.full = schedule.Full(it);
+    s.local_constraints = static_cast<int>(local.size());
+
+    Timer stage;
+    const std::vector<FramePair> candidates =
+        CandidatePairs(schedule, it, index, result.poses, intrinsics, options.pairs);
+    s.candidate_pairs = static_cast<int>(candidates.size());
+    s.seconds_pairs = stage.Seconds();
+
+    stage.Restart();
+    const std::vector<FeatureCorrespondence> correspondences = FindCorrespondences(
+        candidates, index, result.poses, schedule, it, path, options.correspondences, &s.correspondences);
+    s.seconds_correspondences = stage.Seconds();
+
+    SolverOptions solver = options.solver;
+    if (options.weight_correspondence_initial >= 0) {
+      const double t = schedule.iterations() > 1 ? static_cast<double>(it) / (schedule.iterations() - 1) : 1.0;
+      solver.weight_correspondence =
+          options.weight_correspondence_initial + t * (options.solver.weight_correspondence - options.weight_correspondence_initial);
+    }
+    s.weight_correspondence = solver.weight_correspondence;
+    const PoseVector before = result.poses;
+    stage.Restart();
+    s.solve = SolvePoses(correspondences, local, solver, &result.poses);
+    s.seconds_solve = stage.Seconds();
+    for (int k = 0; k < n; ++k) {
+      s.max_translation_change =
+          std::max(s.max_translation_change, (result.poses[k].translation - before[k].translation).norm());
+      s.max_rotation_change_deg =
+          std::max(s.max_rotation_change_deg, result.poses[k].rotation.angularDistance(before[k].rotation) * 180 / M_PI);
+    }
+    s.seconds = timer.Seconds();
+    if (!run.quiet) {
+      spdlog::info("refine {}/{}: windows of {:.4g} {} ({}), {} pairs, {} correspondences, E_C {:.4g} -> {:.4g}, "
+                   "{} Ceres iterations, max change {:.3f} m / {:.2f} deg, {:.2f} s",
+                   it + 1, schedule.iterations(), s.window_length,
+                   options.windows.mode == WindowMode::kPath ? "m" : "frames", s.windows, s.candidate_pairs,
+                   s.correspondences.total(), s.solve.cost_before.count("E_C") ? s.solve.cost_before.at("E_C") : 0.0,
+                   s.solve.cost_after.count("E_C") ? s.solve.cost_after.at("E_C") : 0.0, s.solve.iterations,
+                   s.max_translation_change, s.max_rotation_change_deg, s.seconds);
+    }
+    result.iterations.push_back(s);
+    if (run.keep_iterations) result.iteration_poses.push_back(result.poses);
+  }
+  result.seconds = total.Seconds();
+  return result;
+}
+
+nlohmann::json ToJson(const RefineOptions& o) {
+  return {{"windows", ToJson(o.windows)},
+          {"features", ToJson(o.features)},
+          {"pairs", ToJson(o.pairs)},
+          {"correspondences", ToJson(o.correspondences)},
+          {"local", ToJson(o.local)},
+          {"solver", ToJson(o.solver)},
+          {"weight_correspondence_initial", o.weight_correspondence_initial}};
+}
+
+nlohmann::json ToJson(const IterationSummary& s) {
+  return {{"iteration", s.iteration},
+          {"window_length", s.window_length},
+          {"windows", s.windows},
+          {"full", s.full},
+          {"candidate_pairs", s.candidate_pairs},
+          {"correspondences", ToJson(s.correspondences)},
+          {"local_constraints", s.local_constraints},
+          {"weight_correspondence", s.weight_correspondence},
+          {"solve", ToJson(s.solve)},
+          {"max_translation_change_m", s.max_translation_change},
+          {"max_rotation_change_deg", s.max_rotation_change_deg},
+          {"seconds", {{"pairs", s.seconds_pairs},
+                       {"correspondences", s.seconds_correspondences},
+                       {"solve", s.seconds_solve},
+                       {"total", s.seconds}}}};
+}
+
+}  // namespace f2c

@@ -1,0 +1,84 @@
+#pragma once
+// The fine-to-coarse refinement (paper §4.2, Algorithm 1), from T0:
+//
+//   for i in 0 .. iterations-1:                      windows of l_i frames, l_{i+1} = 2 l_i
+//     pairs  = CandidatePairs(windows_i, poses)      frames that share a window and can overlap
+//     C_i    = FindCorrespondences(pairs, poses)     closest compatible features (E_C)
+//     poses  = argmin w_C E_C + w_L E_L + w_I E_I    (optim/problem.h)
+//
+// E_L's constraints come from the odometry once (refine/local_alignment.h). Everything is
+// rebuilt from the current poses each iteration, seeded, so the result does not depend on
+// the thread count.
+
+#include <functional>
+#include <nlohmann/json_fwd.hpp>
+#include <vector>
+
+#include "f2c/features/feature_set.h"
+#include "f2c/odometry/odometry.h"
+#include "f2c/optim/problem.h"
+#include "f2c/refine/correspondences.h"
+#include "f2c/refine/feature_index.h"
+#include "f2c/refine/local_alignment.h"
+#include "f2c/refine/pairs.h"
+#include "f2c/refine/windows.h"
+
+namespace f2c {
+
+struct RefineOptions {
+  WindowOptions windows;
+  FeatureIndexOptions features;
+  PairOptions pairs;
+  CorrespondenceOptions correspondences;
+  LocalAlignmentOptions local;
+  SolverOptions solver;
+  // The authors' linear schedule of E_C's weight: this in the first iteration, falling
+  // linearly to solver.weight_correspondence in the last (they use 1500 -> 1000); < 0: off.
+  double weight_correspondence_initial = -1;
+
+  void Check() const;  // InputError naming the option when out of range
+};
+
+struct IterationSummary {
+  int iteration = 0;
+  double window_length = 0;  // frames, or metres in path mode
+  int windows = 0;
+  bool full = false;         // one window holds the scan
+  int candidate_pairs = 0;
+  CorrespondenceStats correspondences;
+  int local_constraints = 0;
+  double weight_correspondence = 0;
+  SolveSummary solve;
+  double max_translation_change = 0;  // metres, over all poses
+  double max_rotation_change_deg = 0;
+  double seconds_pairs = 0, seconds_correspondences = 0, seconds_solve = 0, seconds = 0;
+};
+
+struct RefineResult {
+  PoseVector poses;  // world_from_camera per frame
+  std::vector<IterationSummary> iterations;
+  std::vector<PoseVector> iteration_poses;  // after each iteration, when asked
+  double seconds = 0;
+};
+
+struct RefineRun {
+  bool quiet = false;               // no per-iteration log line
+  bool keep_iterations = false;     // fill RefineResult::iteration_poses
+};
+
+// The compact per-frame features and their k-d trees (parallel over frames).
+FeatureIndex BuildFeatureIndex(const FeatureSet& features, const FeatureIndexOptions& options);
+
+// `pairs` and `t0` are the odometry's (pairs[k-1] aligns frame k to k-1); `index` has one
+// entry per frame.
+RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<PairAlignment>& pairs,
+                                const Trajectory& t0, const CameraIntrinsics& intrinsics,
+                                const RefineOptions& options, const RefineRun& run = {});
+
+// Camera path from the first frame to each frame (metres).
+std::vector<double> CameraPath(const Trajectory& trajectory);
+
+nlohmann::json ToJson(const RefineOptions& options);
+nlohmann::json ToJson(const IterationSummary& summary);
+
+}  // namespace f2c
