@@ -38,6 +38,7 @@ struct RegisterArgs {
   RefineOptions refine;
   bool run_refinement = true;     // false: --stop-after odometry (T0 is the result)
   bool save_iterations = false;   // OUTDIR/iterations/iteration_NN.txt
+  int threads = 0;                 // worker threads (0: all cores); results do not depend on it
   bool use_cache = true;
   bool quiet = false;
 };

@@ -3,6 +3,8 @@
 #include <memory>
 #include <string>
 
+#include "f2c/util/error.h"
+
 namespace f2c::app {
 
 std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
@@ -10,12 +12,13 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
     cmd->add_option(name, *value, help)->capture_default_str()->group(group);
   };
   struct Names {
-    std::string windows = "frames", thresholds = "age", loss = "cauchy";
+    std::string windows = "frames", thresholds = "age", loss = "cauchy", solve = "one-step";
   };
   auto names = std::make_shared<Names>();
   names->windows = WindowModeName(o->windows.mode);
   names->thresholds = ThresholdScheduleName(o->correspondences.schedule);
   names->loss = RobustLossName(o->solver.loss);
+  names->solve = o->solver.one_step ? "one-step" : "converge";
 
   const std::string w = "Refinement: windows (paper 4.2)";
   add(w, "--windows", &names->windows, "frames: l_0 consecutive frames, doubling (the paper); path: by camera path (the authors' code)");
@@ -23,6 +26,8 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
   add(w, "--window-path", &o->windows.initial_path, "path windows: the first windows' length (m)");
   add(w, "--window-path-cap", &o->windows.path_cap, "path windows: longest window, times the scan's path");
   add(w, "--extra-iterations", &o->windows.extra_iterations, "iterations after one window holds the whole scan");
+  add(w, "--polish-iterations", &o->windows.polish_iterations,
+      "then this many more with the polish thresholds (beyond the paper; 0: the paper's schedule only)");
 
   const std::string p = "Refinement: frame pairs and correspondences (paper 4.2)";
   add(p, "--max-plane-features", &o->features.max_planes, "plane features kept per frame");
@@ -38,6 +43,8 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
   add(p, "--max-angle-initial", &o->correspondences.initial_max_angle_deg, "normal/direction angle when a pair first shares a window (deg)");
   add(p, "--max-angle-final", &o->correspondences.final_max_angle_deg, "...decreasing linearly to this (deg)");
   add(p, "--threshold-decay", &o->correspondences.decay_iterations, "iterations from the initial to the final thresholds");
+  add(p, "--polish-max-distance", &o->correspondences.polish_max_distance, "correspondence distance in polish iterations (m)");
+  add(p, "--polish-max-angle", &o->correspondences.polish_max_angle_deg, "normal/direction angle in polish iterations (deg)");
   add(p, "--thresholds", &names->thresholds, "age: by iterations together (the paper); path: per pair by camera path (the authors' code)");
   add(p, "--correspondences-per-frame", &o->correspondences.per_frame, "|C| = this times the frames, per iteration");
   add(p, "--min-correspondences-per-pair", &o->correspondences.min_per_pair, "each pair's share at least this");
@@ -61,14 +68,18 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
   add(e, "--loss", &names->loss, "robust loss of E_C: none, huber, cauchy");
   add(e, "--loss-scale", &o->solver.loss_scale, "its scale (m)");
   add(e, "--solver-iterations", &o->solver.max_iterations, "Ceres iterations per refinement iteration");
-  cmd->add_flag("--one-step", o->solver.one_step, "one Gauss-Newton step per iteration (the authors' code)")->group(e);
-  add(e, "--solver-threads", &o->solver.threads, "Ceres threads (1 keeps results bit-identical)");
+  add(e, "--solve", &names->solve, "one-step: one Gauss-Newton step per iteration (the authors' code); converge: to convergence");
+  add(e, "--solver-threads", &o->solver.threads, "Ceres threads (0: as --threads)");
   add(e, "--refine-seed", &o->correspondences.seed, "seed of the correspondence sampling");
 
   return [o, names] {
     o->windows.mode = WindowModeFromName(names->windows);
     o->correspondences.schedule = ThresholdScheduleFromName(names->thresholds);
     o->solver.loss = RobustLossFromName(names->loss);
+    if (names->solve != "one-step" && names->solve != "converge") {
+      throw InputError("--solve: unknown mode '" + names->solve + "' (one-step, converge)");
+    }
+    o->solver.one_step = names->solve == "one-step";
   };
 }
 

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <opencv2/core/utility.hpp>
+#include <tbb/global_control.h>
 
 #include "apps/commands.h"
 #include "apps/common.h"
@@ -69,6 +71,11 @@ Trajectory ToTrajectory(const Trajectory& like, const PoseVector& poses) {
 
 int RunRegister(const RegisterArgs& args) {
   Timer total;
+  std::optional<tbb::global_control> threads;
+  if (args.threads > 0) {
+    threads.emplace(tbb::global_control::max_allowed_parallelism, args.threads);
+    cv::setNumThreads(args.threads);
+  }
   args.odometry.Check();
   const fs::path out = args.output;
   EnsureWritableDirectory(out);  // fail before minutes of work, not after
@@ -224,6 +231,9 @@ Subcommand AddRegisterCommand(CLI::App* app) {
   cmd->add_flag("--no-features", flags->no_features, "skip the feature extraction, and so the refinement (T0 only)");
   cmd->add_flag("--no-icp-fallback", flags->no_icp, "never use depth-only ICP");
   cmd->add_flag("--no-cache", flags->no_cache, "ignore and do not write OUTDIR/cache");
+  cmd->add_option("--threads", args->threads, "worker threads (0: all cores; results are the same for any)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cmd->add_flag("-q,--quiet", args->quiet, "no progress output");
 
   return {cmd, [args, flags, refine_names] {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <tbb/task_arena.h>
 
 #include "f2c/optim/cost_functions.h"
 #include "f2c/util/error.h"
@@ -40,7 +41,7 @@ void SolverOptions::Check() const {
   if (!(loss_scale > 0)) ThrowInputError("--loss-scale", "must be positive");
   if (max_iterations < 1) ThrowInputError("--solver-iterations", "must be >= 1");
   if (!(function_tolerance > 0)) ThrowInputError("solver.function_tolerance", "must be positive");
-  if (threads < 1) ThrowInputError("--solver-threads", "must be >= 1");
+  if (threads < 0) ThrowInputError("--solver-threads", "must be >= 0");
 }
 
 namespace {
@@ -179,7 +180,7 @@ SolveSummary SolvePoses(const std::vector<FeatureCorrespondence>& correspondence
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   solver.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-  solver.num_threads = options.threads;
+  solver.num_threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
   solver.max_num_iterations = options.one_step ? 1 : options.max_iterations;
   solver.function_tolerance = options.function_tolerance;
   if (options.one_step) {

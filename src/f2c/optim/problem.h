@@ -25,20 +25,25 @@ RobustLoss RobustLossFromName(const std::string& name);  // InputError for an un
 
 struct SolverOptions {
   // Term totals. The authors' code: E_C 1500 -> 1000 over the iterations, E_L 1000, E_I 1.
+  // E_L's 10 is measured (BENCHMARKS.md): at 1000 the odometry's relative transforms hold the
+  // drift the correspondences would remove.
   double weight_correspondence = 1000;
-  double weight_local = 1000;
+  double weight_local = 10;
   double weight_inertia = 1;
   // E_L and E_I compare rotations as the displacement they cause at this distance from the
   // camera (metres per radian): a Kinect-class sensor sees surfaces at about 1-3 m.
   double rotation_lever_arm = 1.0;
   RobustLoss loss = RobustLoss::kCauchy;
   double loss_scale = 0.02;  // metres
-  // Ceres iterations per refinement iteration; one_step: a single Gauss-Newton step, as the
-  // authors take.
+  // one_step: a single Gauss-Newton step per refinement iteration, as the authors take (the
+  // default: as accurate as solving to convergence here at a quarter of the time,
+  // BENCHMARKS.md); otherwise up to max_iterations Ceres iterations.
   int max_iterations = 50;
-  bool one_step = false;
+  bool one_step = true;
   double function_tolerance = 1e-6;
-  int threads = 1;  // Ceres' threads (results depend on summation order with more)
+  // Ceres' threads; 0: as many as the thread pool allows (register --threads). The one-step
+  // solve gave byte-identical poses for 1 and 2 threads (tested).
+  int threads = 0;
 
   void Check() const;  // InputError naming the field when out of range
 };

@@ -29,6 +29,8 @@ void CorrespondenceOptions::Check() const {
                                                final_max_angle_deg, initial_max_angle_deg));
   }
   if (decay_iterations < 0) ThrowInputError("--threshold-decay", "must be >= 0");
+  if (!(polish_max_distance > 0)) ThrowInputError("--polish-max-distance", "must be positive");
+  if (!(polish_max_angle_deg > 0 && polish_max_angle_deg <= 180)) ThrowInputError("--polish-max-angle", "must be in (0, 180]");
   if (per_frame < 1) ThrowInputError("--correspondences-per-frame", "must be >= 1");
   if (min_per_pair < 1) ThrowInputError("--min-correspondences-per-pair", "must be >= 1");
   if (!(attempts >= 1)) ThrowInputError("correspondences.attempts", "must be >= 1");
@@ -84,7 +86,9 @@ std::vector<FeatureCorrespondence> FindCorrespondences(const std::vector<FramePa
     const int a = pairs[p].a;
     const int b = pairs[p].b;
     Thresholds t;
-    if (options.schedule == ThresholdSchedule::kAge) {
+    if (schedule.Polishing(iteration)) {
+      t = {options.polish_max_distance, options.polish_max_angle_deg * M_PI / 180.0};
+    } else if (options.schedule == ThresholdSchedule::kAge) {
       t = ThresholdsForAge(options, iteration - schedule.FirstShared(a, b));
     } else {
       // d and L in the windows' own unit: metres of path, or frames.
@@ -176,6 +180,8 @@ nlohmann::json ToJson(const CorrespondenceOptions& o) {
           {"final_max_distance", o.final_max_distance},
           {"final_max_angle_deg", o.final_max_angle_deg},
           {"decay_iterations", o.decay_iterations},
+          {"polish_max_distance", o.polish_max_distance},
+          {"polish_max_angle_deg", o.polish_max_angle_deg},
           {"schedule", ThresholdScheduleName(o.schedule)},
           {"per_frame", o.per_frame},
           {"min_per_pair", o.min_per_pair},

@@ -10,6 +10,9 @@
 // The authors' code instead sets them per pair from the camera path between the frames,
 // min + sqrt(d / (L / 2)) (max - min) with L the window length (ThresholdSchedule::kPath).
 //
+// After the paper's schedule, optional polish iterations use tighter thresholds still
+// (polish_max_distance, polish_max_angle_deg).
+//
 // The total is subsampled to |C| = per_frame n (the paper: 100 n), spread evenly over the
 // pairs (half of each pair's share from each side), with seeded, deterministic sampling.
 
@@ -36,6 +39,9 @@ struct CorrespondenceOptions {
   double final_max_distance = 0.15;
   double final_max_angle_deg = 20;
   int decay_iterations = 3;  // kAge: iterations from the initial to the final thresholds
+  // Beyond the paper: thresholds of the polish iterations (refine/windows.h).
+  double polish_max_distance = 0.03;
+  double polish_max_angle_deg = 10;
   ThresholdSchedule schedule = ThresholdSchedule::kAge;
   int per_frame = 100;    // |C| = per_frame n per iteration
   int min_per_pair = 6;   // a pair's share is never below this (then |C| exceeds per_frame n)

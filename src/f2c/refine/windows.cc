@@ -23,6 +23,7 @@ void WindowOptions::Check() const {
   if (!(initial_path > 0)) ThrowInputError("--window-path", "must be positive");
   if (!(path_cap >= 1)) ThrowInputError("--window-path-cap", "must be >= 1");
   if (extra_iterations < 0) ThrowInputError("--extra-iterations", "must be >= 0");
+  if (polish_iterations < 0) ThrowInputError("--polish-iterations", "must be >= 0");
 }
 
 WindowSchedule::WindowSchedule(const WindowOptions& options, std::vector<double> path) : options_(options) {
@@ -38,7 +39,7 @@ WindowSchedule::WindowSchedule(const WindowOptions& options, std::vector<double>
   }
   int growth = 0;
   while (!Full(growth)) ++growth;
-  iterations_ = growth + 1 + options.extra_iterations;
+  iterations_ = growth + 1 + options.extra_iterations + options.polish_iterations;
 }
 
 double WindowSchedule::Length(int iteration) const {
@@ -100,7 +101,8 @@ nlohmann::json ToJson(const WindowOptions& o) {
           {"initial_frames", o.initial_frames},
           {"initial_path", o.initial_path},
           {"path_cap", o.path_cap},
-          {"extra_iterations", o.extra_iterations}};
+          {"extra_iterations", o.extra_iterations},
+          {"polish_iterations", o.polish_iterations}};
 }
 
 }  // namespace f2c

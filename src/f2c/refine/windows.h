@@ -31,6 +31,10 @@ struct WindowOptions {
   // Iterations at full size after the first window that holds the whole scan (the paper: "a
   // few more"; iteration counts are in run.json).
   int extra_iterations = 2;
+  // Beyond the paper: iterations after those, still at full size, in which the
+  // correspondences use the tighter polish thresholds (refine/correspondences.h). Measured in
+  // BENCHMARKS.md: the paper's final 0.15 m admits closest points on neighbouring surfaces.
+  int polish_iterations = 6;
 
   void Check() const;  // InputError naming the option when out of range
 };
@@ -53,6 +57,8 @@ class WindowSchedule {
   double Length(int iteration) const;
   // Whether iteration i's windows are a single one holding every frame.
   bool Full(int iteration) const;
+  // Whether iteration i is one of the polish iterations at the end.
+  bool Polishing(int iteration) const { return iteration >= iterations_ - options_.polish_iterations; }
   std::vector<Window> Windows(int iteration) const;
   // Whether frames a and b share a window in iteration i.
   bool Share(int iteration, int a, int b) const;

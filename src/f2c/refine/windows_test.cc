@@ -21,6 +21,7 @@ std::vector<std::pair<int, int>> Ranges(const std::vector<Window>& windows) {
 
 TEST(WindowSchedule, FramesDoubleWithHalfOverlapAndAPartialLastWindow) {
   WindowOptions options;
+  options.polish_iterations = 0;
   options.initial_frames = 4;
   options.extra_iterations = 2;
   const WindowSchedule s(options, Straight(11, 0.1));
@@ -38,6 +39,7 @@ TEST(WindowSchedule, FramesDoubleWithHalfOverlapAndAPartialLastWindow) {
 
 TEST(WindowSchedule, LastWindowEndsExactlyAtTheScan) {
   WindowOptions options;
+  options.polish_iterations = 0;
   options.initial_frames = 4;
   const WindowSchedule s(options, Straight(10, 0.1));
   using R = std::vector<std::pair<int, int>>;
@@ -46,6 +48,7 @@ TEST(WindowSchedule, LastWindowEndsExactlyAtTheScan) {
 
 TEST(WindowSchedule, SharingAgreesWithTheWindowsAndStartsWhenTheyGrow) {
   WindowOptions options;
+  options.polish_iterations = 0;
   options.initial_frames = 4;
   const WindowSchedule s(options, Straight(37, 0.1));
   for (int i = 0; i < s.iterations(); ++i) {
@@ -70,6 +73,7 @@ TEST(WindowSchedule, SharingAgreesWithTheWindowsAndStartsWhenTheyGrow) {
 
 TEST(WindowSchedule, PathWindowsFollowTheCameraPathAndAreCapped) {
   WindowOptions options;
+  options.polish_iterations = 0;
   options.mode = WindowMode::kPath;
   options.initial_path = 3.0;
   options.extra_iterations = 1;
@@ -89,6 +93,7 @@ TEST(WindowSchedule, PathWindowsFollowTheCameraPathAndAreCapped) {
 
 TEST(WindowSchedule, ShortScanIsOneWindowFromTheStart) {
   WindowOptions options;
+  options.polish_iterations = 0;
   options.initial_frames = 8;
   options.extra_iterations = 0;
   const WindowSchedule s(options, Straight(5, 0.1));
@@ -97,8 +102,21 @@ TEST(WindowSchedule, ShortScanIsOneWindowFromTheStart) {
   EXPECT_EQ(Ranges(s.Windows(0)), (R{{0, 5}}));
 }
 
+TEST(WindowSchedule, PolishIterationsComeLastAtFullSize) {
+  WindowOptions options;
+  options.initial_frames = 4;
+  options.extra_iterations = 1;
+  options.polish_iterations = 3;
+  const WindowSchedule s(options, Straight(11, 0.1));
+  // l = 4, 8, 16 (full), 1 extra, 3 polish.
+  ASSERT_EQ(s.iterations(), 7);
+  for (int i = 0; i < 7; ++i) EXPECT_EQ(s.Polishing(i), i >= 4) << i;
+  EXPECT_TRUE(s.Full(6));
+}
+
 TEST(WindowOptions, BadValuesNameTheOption) {
   WindowOptions options;
+  options.polish_iterations = 0;
   options.initial_frames = 1;
   try {
     options.Check();
