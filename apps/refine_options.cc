@@ -65,6 +65,9 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
   add(e, "--local-icp-weight", &o->local.icp_weight, "E_L confidence of ICP-fallback pairs (SIFT pairs up to 1)");
   add(e, "--local-prior-weight", &o->local.prior_weight, "E_L confidence of motion-prior pairs");
   add(e, "--local-distance-sigma", &o->local.distance_sigma, "E_L weight exp(-d^2/2s^2) by camera distance (m; 0: off)");
+  add(e, "--local-loss-scale", &o->solver.local_loss_scale, "Cauchy scale of E_L (m; 0: least squares)");
+  add(e, "--weight-match", &o->solver.weight_match, "w_M: each SIFT loop match weighs w_M / frames");
+  add(e, "--match-loss-scale", &o->solver.match_loss_scale, "Cauchy scale of E_M (m)");
   add(e, "--loss", &names->loss, "robust loss of E_C: none, huber, cauchy");
   add(e, "--loss-scale", &o->solver.loss_scale, "its scale (m)");
   add(e, "--solver-iterations", &o->solver.max_iterations, "Ceres iterations per refinement iteration");

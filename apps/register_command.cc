@@ -98,6 +98,13 @@ int RunRegister(const RegisterArgs& args) {
   run.quiet = args.quiet;
   if (args.use_cache) run.cache_file = out / "cache" / "odometry_pairs.json";
   if (extraction) run.on_depth = [&](int frame, const cv::Mat& depth) { extraction->Compute(frame, depth); };
+  // Keyframes' SIFT for the refinement's loop matcher, kept as the odometry computes it.
+  std::optional<KeyframeStore> keyframe_store;
+  if (args.run_refinement && args.extract_features && args.refine.loops.enabled) {
+    keyframe_store.emplace(seq, args.refine.loops.keyframes, args.odometry.sift,
+                           args.use_cache ? out / "cache" / "keyframes.f2ck" : fs::path());
+    run.on_sift = [&](int frame, const SiftFeatures& sift) { keyframe_store->Offer(frame, sift); };
+  }
   const Odometry odometry = AlignConsecutive(seq, args.odometry, run);
   const json stats = PairStatistics(odometry.pairs);
   spdlog::info("odometry: {} pairs ({} SIFT, {} ICP, {} motion prior) in {:.1f} s",
@@ -130,13 +137,23 @@ int RunRegister(const RegisterArgs& args) {
     RefineRun refine_run;
     refine_run.quiet = args.quiet;
     refine_run.keep_iterations = args.save_iterations;
-    const RefineResult refined = RefineFineToCoarse(*index, odometry.pairs, odometry.t0, *seq.intrinsics, args.refine, refine_run);
+    Timer keyframe_timer;
+    std::vector<Keyframe> keyframes;
+    if (keyframe_store) keyframes = keyframe_store->Finish();
+    const double keyframe_s = keyframe_timer.Seconds();
+    if (keyframe_store && keyframe_store->computed() > 0) {
+      spdlog::info("keyframes: {} with SIFT for loop pairs ({} decoded again, {:.1f} s)", keyframes.size(),
+                   keyframe_store->computed(), keyframe_s);
+    }
+    const RefineResult refined = RefineFineToCoarse(*index, odometry.pairs, odometry.t0, *seq.intrinsics, args.refine,
+                                                    refine_run, std::move(keyframes));
     result = ToTrajectory(odometry.t0, refined.poses);
     json iterations = json::array();
     for (const IterationSummary& s : refined.iterations) iterations.push_back(ToJson(s));
-    refine_stage = {{"wall_s", refined.seconds + index_s},
+    refine_stage = {{"wall_s", refined.seconds + index_s + keyframe_s},
                     {"index_s", index_s},
-                    {"ms_per_frame", 1000.0 * (refined.seconds + index_s) / seq.frames.size()},
+                    {"keyframes_s", keyframe_s},
+                    {"ms_per_frame", 1000.0 * (refined.seconds + index_s + keyframe_s) / seq.frames.size()},
                     {"index_bytes", index->MemoryBytes()},
                     {"iterations", iterations}};
     spdlog::info("refinement: {} iterations in {:.1f} s ({:.1f} ms per frame)", refined.iterations.size(),
@@ -157,6 +174,7 @@ int RunRegister(const RegisterArgs& args) {
   if (args.save_iterations && index) outputs.push_back("iterations/");
   const bool features_cached = args.extract_features && args.use_cache;
   if (features_cached) outputs.push_back("cache/features.f2cf");
+  if (keyframe_store && args.use_cache) outputs.push_back("cache/keyframes.f2ck");
   const json report = {
       {"input", fs::absolute(args.input).string()},
       {"layout", LayoutName(seq.layout)},

@@ -233,6 +233,7 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
         LoadFrame(seq, f, options, &clock, &frames[i]);
         ++frames_processed;
         if (run.on_depth) run.on_depth(f, frames[i].depth);
+        if (run.on_sift) run.on_sift(f, frames[i].sift);
       }
     });
     tbb::parallel_for(begin + 1, end + 1, [&](int k) {

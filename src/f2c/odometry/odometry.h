@@ -90,6 +90,8 @@ struct OdometryRun {
   // Called with each depth image the odometry decodes (from worker threads, once per frame
   // index), so later stages can use it without decoding it again.
   std::function<void(int frame, const cv::Mat& depth)> on_depth;
+  // Likewise with each frame's SIFT (the refinement keeps keyframes' for loop pairs).
+  std::function<void(int frame, const SiftFeatures& sift)> on_sift;
 };
 
 // Aligns every consecutive pair of `sequence` (intrinsics required) in parallel.

@@ -35,4 +35,20 @@ struct RelativePoseConstraint {
   double weight = 1;
 };
 
+// E_M (beyond the paper): a SIFT match between two frames the refinement re-matched (a loop
+// or a bridge over weak odometry), verified by RANSAC: the same surface point seen in both.
+struct PointMatch {
+  int32_t frame_a = 0;
+  int32_t frame_b = 0;
+  Eigen::Vector3f point_a = Eigen::Vector3f::Zero();
+  Eigen::Vector3f point_b = Eigen::Vector3f::Zero();
+};
+
+// Everything one iteration's energy is built from.
+struct Constraints {
+  std::vector<FeatureCorrespondence> correspondences;  // E_C
+  std::vector<RelativePoseConstraint> local;           // E_L
+  std::vector<PointMatch> matches;                     // E_M
+};
+
 }  // namespace f2c

@@ -1,7 +1,6 @@
 #include "f2c/optim/cost_functions.h"
 
 namespace f2c {
-namespace {
 
 using Matrix34 = Eigen::Matrix<double, 3, 4, Eigen::RowMajor>;
 
@@ -28,61 +27,97 @@ Matrix34 RotationDerivative(const double* q, const Eigen::Vector3d& v) {
   return d;
 }
 
-// Writes a Jacobian block (Ceres: row-major).
-template <typename Derived>
-void Store(const Eigen::MatrixBase<Derived>& value, double* out) {
-  constexpr int kRows = Derived::RowsAtCompileTime, kCols = Derived::ColsAtCompileTime;
-  Eigen::Map<Eigen::Matrix<double, kRows, kCols, kCols == 1 ? Eigen::ColMajor : Eigen::RowMajor>> map(out);
-  map = value;
+
+
+void EvaluateConstraint(ConstraintKind kind, const PosePair& poses, const Eigen::Vector3d& target_point,
+                        const Eigen::Vector3d& target_direction, const Eigen::Vector3d& point, bool jacobians,
+                        ConstraintRows* out) {
+  const Eigen::Map<const Eigen::Vector3d> t_a(poses.t_a), t_b(poses.t_b);
+  out->jacobian.setZero();
+  switch (kind) {
+    case ConstraintKind::kPointToPlane: {
+      // r = n_a . (M(q_a)^T y - p_a) = m . y - n_a . p_a with y = Rot(q_b, p_b) + t_b - t_a and
+      // m = M(q_a) n_a. So dr/dt_b = m^T = -dr/dt_a, dr/dq_b = m^T dRot(q_b, p_b)/dq_b and
+      // dr/dq_a = y^T dRot(q_a, n_a)/dq_a.
+      out->rows = 1;
+      const Eigen::Vector3d m = poses.m_a * target_direction;
+      const Eigen::Vector3d y = poses.m_b * point + t_b - t_a;
+      out->residual[0] = m.dot(y) - target_direction.dot(target_point);
+      if (!jacobians) return;
+      out->jacobian.block<1, 4>(0, 0) = y.transpose() * RotationDerivative(poses.q_a, target_direction);
+      out->jacobian.block<1, 3>(0, 4) = -m.transpose();
+      out->jacobian.block<1, 4>(0, 7) = m.transpose() * RotationDerivative(poses.q_b, point);
+      out->jacobian.block<1, 3>(0, 11) = m.transpose();
+      return;
+    }
+    case ConstraintKind::kPointToLine: {
+      // r = (z - p_a) x d_a = -[d_a]x (z - p_a) with z = M(q_a)^T y, y as above. dz/dy = M(q_a)^T;
+      // z = Rot(conj q_a, y), so dz/du_a = -dRot/du at conj q_a and dz/dw_a = dRot/dw there.
+      out->rows = 3;
+      const Eigen::Vector3d y = poses.m_b * point + t_b - t_a;
+      const Eigen::Vector3d z = poses.m_a.transpose() * y;
+      out->residual.head<3>() = (z - target_point).cross(target_direction);
+      if (!jacobians) return;
+      const Eigen::Matrix3d dr_dz = -Skew(target_direction);
+      const Eigen::Matrix3d dr_dy = dr_dz * poses.m_a.transpose();
+      const double conj[4] = {-poses.q_a[0], -poses.q_a[1], -poses.q_a[2], poses.q_a[3]};
+      Matrix34 dz = RotationDerivative(conj, y);
+      dz.leftCols<3>() *= -1;
+      out->jacobian.block<3, 4>(0, 0) = dr_dz * dz;
+      out->jacobian.block<3, 3>(0, 4) = -dr_dy;
+      out->jacobian.block<3, 4>(0, 7) = dr_dy * RotationDerivative(poses.q_b, point);
+      out->jacobian.block<3, 3>(0, 11) = dr_dy;
+      return;
+    }
+    case ConstraintKind::kPointToPoint: {
+      // r = Rot(q_a, p_a) + t_a - Rot(q_b, p_b) - t_b.
+      out->rows = 3;
+      out->residual.head<3>() = poses.m_a * target_point + t_a - poses.m_b * point - t_b;
+      if (!jacobians) return;
+      out->jacobian.block<3, 4>(0, 0) = RotationDerivative(poses.q_a, target_point);
+      out->jacobian.block<3, 3>(0, 4) = Eigen::Matrix3d::Identity();
+      out->jacobian.block<3, 4>(0, 7) = -RotationDerivative(poses.q_b, point);
+      out->jacobian.block<3, 3>(0, 11) = -Eigen::Matrix3d::Identity();
+      return;
+    }
+  }
+}
+
+PosePair::PosePair(double const* const* parameters)
+    : q_a(parameters[0]), t_a(parameters[1]), q_b(parameters[2]), t_b(parameters[3]),
+      m_a(RotationPolynomial(parameters[0])), m_b(RotationPolynomial(parameters[2])) {}
+
+namespace {
+
+bool EvaluateSingle(ConstraintKind kind, const Eigen::Vector3d& target_point, const Eigen::Vector3d& target_direction,
+                    const Eigen::Vector3d& point, double const* const* parameters, double* residuals,
+                    double** jacobians) {
+  ConstraintRows rows;
+  EvaluateConstraint(kind, PosePair(parameters), target_point, target_direction, point, jacobians != nullptr, &rows);
+  for (int i = 0; i < rows.rows; ++i) residuals[i] = rows.residual[i];
+  if (jacobians == nullptr) return true;
+  const int offsets[4] = {0, 4, 7, 11}, sizes[4] = {4, 3, 4, 3};
+  for (int b = 0; b < 4; ++b) {
+    if (jacobians[b] == nullptr) continue;
+    for (int i = 0; i < rows.rows; ++i) {
+      for (int k = 0; k < sizes[b]; ++k) jacobians[b][i * sizes[b] + k] = rows.jacobian(i, offsets[b] + k);
+    }
+  }
+  return true;
 }
 
 }  // namespace
 
 bool AnalyticPointToPlaneCost::Evaluate(double const* const* parameters, double* residuals,
                                         double** jacobians) const {
-  // r = n_a . (M(q_a)^T y - p_a) = m . y - n_a . p_a with y = Rot(q_b, p_b) + t_b - t_a and
-  // m = M(q_a) n_a. So dr/dt_b = m^T = -dr/dt_a, dr/dq_b = m^T dRot(q_b, p_b)/dq_b and
-  // dr/dq_a = y^T dRot(q_a, n_a)/dq_a.
-  const double* q_a = parameters[0];
-  const Eigen::Map<const Eigen::Vector3d> t_a(parameters[1]);
-  const double* q_b = parameters[2];
-  const Eigen::Map<const Eigen::Vector3d> t_b(parameters[3]);
-  const Eigen::Vector3d m = RotationPolynomial(q_a) * normal_in_a_;
-  const Eigen::Vector3d y = RotationPolynomial(q_b) * point_in_b_ + t_b - t_a;
-  residuals[0] = m.dot(y) - normal_in_a_.dot(point_in_a_);
-  if (jacobians == nullptr) return true;
-  if (jacobians[0]) Store(y.transpose() * RotationDerivative(q_a, normal_in_a_), jacobians[0]);
-  if (jacobians[1]) Store(-m.transpose(), jacobians[1]);
-  if (jacobians[2]) Store(m.transpose() * RotationDerivative(q_b, point_in_b_), jacobians[2]);
-  if (jacobians[3]) Store(m.transpose(), jacobians[3]);
-  return true;
+  return EvaluateSingle(ConstraintKind::kPointToPlane, point_in_a_, normal_in_a_, point_in_b_, parameters, residuals,
+                        jacobians);
 }
 
 bool AnalyticPointToLineCost::Evaluate(double const* const* parameters, double* residuals,
                                        double** jacobians) const {
-  // r = (z - p_a) x d_a = -[d_a]x (z - p_a) with z = M(q_a)^T y, y as above. dz/dy = M(q_a)^T;
-  // z = Rot(conj q_a, y), so dz/du_a = -dRot/du at conj q_a and dz/dw_a = dRot/dw there.
-  const double* q_a = parameters[0];
-  const Eigen::Map<const Eigen::Vector3d> t_a(parameters[1]);
-  const double* q_b = parameters[2];
-  const Eigen::Map<const Eigen::Vector3d> t_b(parameters[3]);
-  const Eigen::Matrix3d m_a_transpose = RotationPolynomial(q_a).transpose();
-  const Eigen::Vector3d y = RotationPolynomial(q_b) * point_in_b_ + t_b - t_a;
-  const Eigen::Vector3d z = m_a_transpose * y;
-  Store((z - point_in_a_).cross(direction_in_a_), residuals);
-  if (jacobians == nullptr) return true;
-  const Eigen::Matrix3d dr_dz = -Skew(direction_in_a_);
-  const Eigen::Matrix3d dr_dy = dr_dz * m_a_transpose;
-  if (jacobians[0]) {
-    const double conj[4] = {-q_a[0], -q_a[1], -q_a[2], q_a[3]};
-    Matrix34 dz = RotationDerivative(conj, y);
-    dz.leftCols<3>() *= -1;
-    Store(dr_dz * dz, jacobians[0]);
-  }
-  if (jacobians[1]) Store(-dr_dy, jacobians[1]);
-  if (jacobians[2]) Store(dr_dy * RotationDerivative(q_b, point_in_b_), jacobians[2]);
-  if (jacobians[3]) Store(dr_dy, jacobians[3]);
-  return true;
+  return EvaluateSingle(ConstraintKind::kPointToLine, point_in_a_, direction_in_a_, point_in_b_, parameters, residuals,
+                        jacobians);
 }
 
 }  // namespace f2c

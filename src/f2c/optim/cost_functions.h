@@ -127,6 +127,34 @@ struct RelativePoseCost {
   double s_t_, s_r_;
 };
 
+// E_M, SIFT matches (beyond the paper): the two sightings of one point, in the world,
+//   r = (R_a p_a + t_a) - (R_b p_b + t_b)        three residuals, metres.
+struct PointToPointCost {
+  PointToPointCost(const Eigen::Vector3d& point_in_a, const Eigen::Vector3d& point_in_b)
+      : point_in_a_(point_in_a), point_in_b_(point_in_b) {}
+
+  template <typename T>
+  bool operator()(const T* rotation_a, const T* translation_a, const T* rotation_b, const T* translation_b,
+                  T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q_a(rotation_a);
+    const Eigen::Map<const Eigen::Quaternion<T>> q_b(rotation_b);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_a(translation_a);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_b(translation_b);
+    const Eigen::Matrix<T, 3, 1> r = (q_a * point_in_a_.cast<T>() + t_a) - (q_b * point_in_b_.cast<T>() + t_b);
+    residual[0] = r[0];
+    residual[1] = r[1];
+    residual[2] = r[2];
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Vector3d& point_in_a, const Eigen::Vector3d& point_in_b) {
+    return new ceres::AutoDiffCostFunction<PointToPointCost, 3, 4, 3, 4, 3>(new PointToPointCost(point_in_a, point_in_b));
+  }
+
+ private:
+  Eigen::Vector3d point_in_a_, point_in_b_;
+};
+
 // E_I, inertia (paper §4.3): a pose's change from its value in the previous iteration (q_p, t_p),
 //   r[0..2] = s_t (t - t_p)          r[3..5] = s_r 2 vec(q_p^-1 q)
 // (the paper compares Euler angles; for the small changes this term sees, 2 vec(q_p^-1 q) is
@@ -166,6 +194,35 @@ struct PoseChangeCost {
 }  // namespace f2c
 
 namespace f2c {
+
+// The residual kernels of E_C and E_M with hand-written Jacobians, shared by the analytic cost
+// functions below and the batched pair blocks (optim/pair_cost.h).
+enum class ConstraintKind : uint8_t { kPointToPlane, kPointToLine, kPointToPoint };
+
+// The two poses of a constraint, with M(q) = the rotation polynomial Eigen evaluates for q * v.
+struct PosePair {
+  explicit PosePair(double const* const* parameters);  // q_a, t_a, q_b, t_b
+  const double *q_a, *t_a, *q_b, *t_b;
+  Eigen::Matrix3d m_a, m_b;
+};
+
+// One constraint's residual (1 or 3 rows, unweighted) and its Jacobian by (q_a, t_a, q_b, t_b)
+// as 14 columns. Point-to-point (E_M): r = Rot(q_a) p_a + t_a - Rot(q_b) p_b - t_b, with
+// target_point = p_a, point = p_b (target_direction unused).
+struct ConstraintRows {
+  int rows = 0;
+  Eigen::Vector3d residual = Eigen::Vector3d::Zero();
+  Eigen::Matrix<double, 3, 14> jacobian;
+};
+void EvaluateConstraint(ConstraintKind kind, const PosePair& poses, const Eigen::Vector3d& target_point,
+                        const Eigen::Vector3d& target_direction, const Eigen::Vector3d& point, bool jacobians,
+                        ConstraintRows* out);
+
+// Rotation helpers of the kernels: Rot(q, v) = M(q) v = v + 2 w (u x v) + 2 u x (u x v), its
+// derivative by (x, y, z, w), and the cross-product matrix.
+Eigen::Matrix3d RotationPolynomial(const double* q);
+Eigen::Matrix<double, 3, 4, Eigen::RowMajor> RotationDerivative(const double* q, const Eigen::Vector3d& v);
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v);
 
 // The same E_C residuals with hand-written Jacobians (per the ambient coordinates, like
 // AutoDiff; Ceres applies the quaternion manifold). They are evaluated about 10x faster than

@@ -14,22 +14,6 @@
 
 namespace f2c {
 
-const char* RobustLossName(RobustLoss loss) {
-  switch (loss) {
-    case RobustLoss::kNone: return "none";
-    case RobustLoss::kHuber: return "huber";
-    case RobustLoss::kCauchy: return "cauchy";
-  }
-  return "?";
-}
-
-RobustLoss RobustLossFromName(const std::string& name) {
-  for (RobustLoss loss : {RobustLoss::kNone, RobustLoss::kHuber, RobustLoss::kCauchy}) {
-    if (name == RobustLossName(loss)) return loss;
-  }
-  ThrowInputError("--loss", fmt::format("unknown robust loss '{}' (none, huber, cauchy)", name));
-}
-
 void SolverOptions::Check() const {
   auto non_negative = [](double v, const char* name) {
     if (!(v >= 0 && std::isfinite(v))) ThrowInputError(name, fmt::format("must be >= 0, got {}", v));
@@ -37,6 +21,9 @@ void SolverOptions::Check() const {
   non_negative(weight_correspondence, "--weight-correspondence");
   non_negative(weight_local, "--weight-local");
   non_negative(weight_inertia, "--weight-inertia");
+  non_negative(weight_match, "--weight-match");
+  if (!(match_loss_scale > 0)) ThrowInputError("--match-loss-scale", "must be positive");
+  if (!(local_loss_scale >= 0)) ThrowInputError("--local-loss-scale", "must be >= 0");
   if (!(rotation_lever_arm > 0)) ThrowInputError("--rotation-lever-arm", "must be positive");
   if (!(loss_scale > 0)) ThrowInputError("--loss-scale", "must be positive");
   if (max_iterations < 1) ThrowInputError("--solver-iterations", "must be >= 1");
@@ -49,6 +36,7 @@ namespace {
 constexpr const char* kTermC = "E_C";
 constexpr const char* kTermL = "E_L";
 constexpr const char* kTermI = "E_I";
+constexpr const char* kTermM = "E_M";
 
 std::unique_ptr<ceres::LossFunction> MakeLoss(RobustLoss loss, double scale, double weight) {
   ceres::LossFunction* robust = nullptr;
@@ -74,14 +62,25 @@ class PoseProblem {
            std::vector<double*> blocks) {
     terms_[term].push_back(problem_.AddResidualBlock(cost, loss, blocks));
   }
-  ceres::LossFunction* Loss(RobustLoss type, double scale, double weight) {
-    auto& slot = losses_[weight];
+  // A batched pair block: its term's cost is its robust cost, not Ceres' (IRLS) one.
+  void AddPair(const std::string& term, PairCost* cost, std::vector<double*> blocks) {
+    pair_blocks_[term].push_back({cost, blocks});
+    Add(term, cost, nullptr, blocks);
+  }
+  ceres::LossFunction* Loss(RobustLoss type, double scale, double weight, const std::string& term) {
+    auto& slot = losses_[{term, weight}];
     if (!slot) slot = MakeLoss(type, scale, weight);
     return slot.get();
   }
   std::map<std::string, double> TermCosts() {
     std::map<std::string, double> costs;
     for (auto& [term, ids] : terms_) {
+      if (pair_blocks_.count(term)) {
+        double cost = 0;
+        for (const auto& [block, parameters] : pair_blocks_.at(term)) cost += block->RobustCost(parameters.data());
+        costs[term] = cost;
+        continue;
+      }
       ceres::Problem::EvaluateOptions options;
       options.residual_blocks = ids;
       options.apply_loss_function = true;
@@ -106,16 +105,17 @@ class PoseProblem {
     return o;
   }
   ceres::EigenQuaternionManifold quaternion_;
-  std::map<double, std::unique_ptr<ceres::LossFunction>> losses_;
+  std::map<std::pair<std::string, double>, std::unique_ptr<ceres::LossFunction>> losses_;
   std::map<std::string, std::vector<ceres::ResidualBlockId>> terms_;
+  std::map<std::string, std::vector<std::pair<const PairCost*, std::vector<double*>>>> pair_blocks_;
   ceres::Problem problem_;  // last: destroyed first, before what it points to
 };
 
 }  // namespace
 
-SolveSummary SolvePoses(const std::vector<FeatureCorrespondence>& correspondences,
-                        const std::vector<RelativePoseConstraint>& local, const SolverOptions& options,
-                        PoseVector* poses) {
+SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& options, PoseVector* poses) {
+  const std::vector<FeatureCorrespondence>& correspondences = constraints.correspondences;
+  const std::vector<RelativePoseConstraint>& local = constraints.local;
   options.Check();
   Timer timer;
   SolveSummary summary;
@@ -135,21 +135,28 @@ SolveSummary SolvePoses(const std::vector<FeatureCorrespondence>& correspondence
     return std::vector<double*>{pa.rotation_data(), pa.translation_data(), pb.rotation_data(), pb.translation_data()};
   };
 
-  // E_C: point-to-plane and point-to-line, each weighted w_C v_i / sum(v), robustified.
+  // E_C: point-to-plane and point-to-line, each weighted w_C v_i / sum(v), robustified; one
+  // residual block per ordered frame pair (optim/pair_cost.h).
+  using PairKey = std::pair<int, int>;
+  std::map<PairKey, std::vector<PairConstraint>> by_pair;
   double sum_c = 0;
   for (const FeatureCorrespondence& c : correspondences) sum_c += c.weight;
-  for (const FeatureCorrespondence& c : correspondences) {
-    if (options.weight_correspondence == 0 || sum_c <= 0) break;
-    F2C_CHECK(c.target_frame >= 0 && c.target_frame < n && c.point_frame >= 0 && c.point_frame < n,
-              "correspondence frames in range");
-    const double w = options.weight_correspondence * c.weight / sum_c;
-    ceres::CostFunction* cost =
-        c.kind == CorrespondenceKind::kPointToPlane
-            ? static_cast<ceres::CostFunction*>(new AnalyticPointToPlaneCost(
-                  c.target_point.cast<double>(), c.target_direction.cast<double>(), c.point.cast<double>()))
-            : new AnalyticPointToLineCost(c.target_point.cast<double>(), c.target_direction.cast<double>(),
-                                          c.point.cast<double>());
-    pp.Add(kTermC, cost, pp.Loss(options.loss, options.loss_scale, w), blocks(c.target_frame, c.point_frame));
+  if (options.weight_correspondence > 0 && sum_c > 0) {
+    for (const FeatureCorrespondence& c : correspondences) {
+      F2C_CHECK(c.target_frame >= 0 && c.target_frame < n && c.point_frame >= 0 && c.point_frame < n,
+                "correspondence frames in range");
+      PairConstraint pc;
+      pc.kind = c.kind == CorrespondenceKind::kPointToPlane ? ConstraintKind::kPointToPlane : ConstraintKind::kPointToLine;
+      pc.weight = options.weight_correspondence * c.weight / sum_c;
+      pc.target_point = c.target_point.cast<double>();
+      pc.target_direction = c.target_direction.cast<double>();
+      pc.point = c.point.cast<double>();
+      by_pair[{c.target_frame, c.point_frame}].push_back(pc);
+    }
+  }
+  for (auto& [key, list] : by_pair) {
+    const std::vector<double*> b = blocks(key.first, key.second);
+    pp.AddPair(kTermC, new PairCost(std::move(list), options.loss, options.loss_scale, b.data()), b);
   }
 
   // E_L: relative transforms of T0, w_L v_i / sum(v); rotations at the lever arm.
@@ -160,8 +167,28 @@ SolveSummary SolvePoses(const std::vector<FeatureCorrespondence>& correspondence
     F2C_CHECK(l.frame_a >= 0 && l.frame_a < n && l.frame_b >= 0 && l.frame_b < n, "local frames in range");
     const double s = std::sqrt(options.weight_local * l.weight / sum_l);
     pp.Add(kTermL,
-           RelativePoseCost::Create(l.rotation_a_from_b, l.translation_a_from_b, s, s * options.rotation_lever_arm),
-           nullptr, blocks(l.frame_a, l.frame_b));
+           RelativePoseCost::Create(l.rotation_a_from_b, l.translation_a_from_b, 1.0, options.rotation_lever_arm),
+           pp.Loss(options.local_loss_scale > 0 ? RobustLoss::kCauchy : RobustLoss::kNone,
+                   options.local_loss_scale > 0 ? options.local_loss_scale : 1.0, s * s, kTermL),
+           blocks(l.frame_a, l.frame_b));
+  }
+
+  // E_M: SIFT matches, w_M / n each, robustified, batched per frame pair.
+  by_pair.clear();
+  if (options.weight_match > 0) {
+    for (const PointMatch& m : constraints.matches) {
+      F2C_CHECK(m.frame_a >= 0 && m.frame_a < n && m.frame_b >= 0 && m.frame_b < n, "match frames in range");
+      PairConstraint pc;
+      pc.kind = ConstraintKind::kPointToPoint;
+      pc.weight = options.weight_match / n;
+      pc.target_point = m.point_a.cast<double>();
+      pc.point = m.point_b.cast<double>();
+      by_pair[{m.frame_a, m.frame_b}].push_back(pc);
+    }
+  }
+  for (auto& [key, list] : by_pair) {
+    const std::vector<double*> b = blocks(key.first, key.second);
+    pp.AddPair(kTermM, new PairCost(std::move(list), RobustLoss::kCauchy, options.match_loss_scale, b.data()), b);
   }
 
   // E_I: each pose's change in this iteration, w_I / n per pose.
@@ -204,6 +231,9 @@ nlohmann::json ToJson(const SolverOptions& o) {
   return {{"weight_correspondence", o.weight_correspondence},
           {"weight_local", o.weight_local},
           {"weight_inertia", o.weight_inertia},
+          {"weight_match", o.weight_match},
+          {"match_loss_scale", o.match_loss_scale},
+          {"local_loss_scale", o.local_loss_scale},
           {"rotation_lever_arm", o.rotation_lever_arm},
           {"loss", RobustLossName(o.loss)},
           {"loss_scale", o.loss_scale},

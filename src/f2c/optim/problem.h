@@ -1,11 +1,13 @@
 #pragma once
 // One refinement iteration's optimisation (paper §4.3):
-//   argmin_T  w_C E_C(T, C) + w_L E_L(T) + w_I E_I(T)
+//   argmin_T  w_C E_C(T, C) + w_L E_L(T) + w_I E_I(T) + w_M E_M(T)
 // over every camera pose but the first, which is held fixed (the gauge). Each term's weight
 // is a total shared among its residuals, as in the authors' code (DESIGN.md §2): a residual
 // of a term with N residuals and relative weights v_i gets w v_i / sum(v), so the balance of
 // the terms does not change with how many constraints an iteration finds. E_C residuals go
-// through a robust loss (metres). Solved with Ceres: sparse normal Cholesky (SuiteSparse),
+// through a robust loss (metres). E_M (SIFT matches the refinement found, beyond the paper)
+// weighs each match w_M / n (n frames), not shared: a verified match counts the same however
+// many others there are; its Cauchy loss (match_loss_scale) tames the rare wrong one. Solved with Ceres: sparse normal Cholesky (SuiteSparse),
 // poses on EigenQuaternionManifold x R^3. Part 2's structure terms add residual blocks to the
 // same problem.
 
@@ -15,13 +17,10 @@
 #include <vector>
 
 #include "f2c/optim/constraints.h"
+#include "f2c/optim/pair_cost.h"
 #include "f2c/optim/pose.h"
 
 namespace f2c {
-
-enum class RobustLoss { kNone, kHuber, kCauchy };
-const char* RobustLossName(RobustLoss loss);
-RobustLoss RobustLossFromName(const std::string& name);  // InputError for an unknown name
 
 struct SolverOptions {
   // Term totals. The authors' code: E_C 1500 -> 1000 over the iterations, E_L 1000, E_I 1.
@@ -30,6 +29,13 @@ struct SolverOptions {
   double weight_correspondence = 1000;
   double weight_local = 10;
   double weight_inertia = 1;
+  double weight_match = 100;
+  // Cauchy scale of E_L's residuals (metres; rotations at the lever arm); 0: plain least
+  // squares. An odometry pair can be wrong outright (ICP turning freely along a plain wall):
+  // with least squares, loops spread such an error over every pair; a robust E_L lets it
+  // stay where it is.
+  double local_loss_scale = 0.0;
+  double match_loss_scale = 0.05;  // metres
   // E_L and E_I compare rotations as the displacement they cause at this distance from the
   // camera (metres per radian): a Kinect-class sensor sees surfaces at about 1-3 m.
   double rotation_lever_arm = 1.0;
@@ -60,9 +66,7 @@ struct SolveSummary {
 
 // Minimises the energy above, starting from and writing to `poses` (world_from_camera, one
 // per frame). The poses on entry are E_I's reference.
-SolveSummary SolvePoses(const std::vector<FeatureCorrespondence>& correspondences,
-                        const std::vector<RelativePoseConstraint>& local, const SolverOptions& options,
-                        PoseVector* poses);
+SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& options, PoseVector* poses);
 
 nlohmann::json ToJson(const SolverOptions& options);
 nlohmann::json ToJson(const SolveSummary& summary);

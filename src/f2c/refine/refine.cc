@@ -16,6 +16,7 @@ void RefineOptions::Check() const {
   pairs.Check();
   correspondences.Check();
   local.Check();
+  loops.Check();
   solver.Check();
   if (!(weight_correspondence_initial < 0 || std::isfinite(weight_correspondence_initial))) {
     ThrowInputError("--weight-correspondence-initial", "must be finite");
@@ -42,7 +43,7 @@ std::vector<double> CameraPath(const Trajectory& trajectory) {
 
 RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<PairAlignment>& pairs,
                                 const Trajectory& t0, const CameraIntrinsics& intrinsics,
-                                const RefineOptions& options, const RefineRun& run) {
+                                const RefineOptions& options, const RefineRun& run, std::vector<Keyframe> keyframes) {
   options.Check();
   Timer total;
   const int n = static_cast<int>(t0.size());
@@ -52,7 +53,11 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
   for (const Rigid3d& pose : t0.world_from_camera) result.poses.push_back(Pose::FromRigid(pose));
   const std::vector<double> path = CameraPath(t0);
   const WindowSchedule schedule(options.windows, path);
-  const std::vector<RelativePoseConstraint> local = LocalConstraints(pairs, options.local);
+  Constraints constraints;
+  constraints.local = LocalConstraints(pairs, options.local);
+  std::vector<double> confidence;
+  for (const PairAlignment& p : pairs) confidence.push_back(PairConfidence(p, options.local));
+  SiftLoopMatcher loops(std::move(keyframes), confidence, options.loops);
 
   for (int it = 0; it < schedule.iterations(); ++it) {
     Timer timer;
@@ -61,7 +66,27 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     s.window_length = schedule.Length(it);
     s.windows = static_cast<int>(schedule.Windows(it).size());
     s.full = schedule.Full(it);
-    s.local_constraints = static_cast<int>(local.size());
+    s.local_constraints = static_cast<int>(constraints.local.size());
+
+    const PoseVector before = result.poses;
+    // New SIFT loops first: when matches were accepted, the poses they imply (with E_L and
+    // E_I, no closest points: those found under the old poses would pull back) are solved
+    // to convergence before this iteration's correspondences are searched.
+    s.loops = loops.Update(schedule, it, result.poses, index, intrinsics);
+    s.seconds_loops = s.loops.seconds;
+    constraints.matches = loops.matches();
+    if (s.loops.accepted > 0 && options.loops.presolve) {
+      Timer presolve;
+      if (options.loops.spanning_tree) {
+        std::vector<double> link(n - 1);
+        for (int k = 1; k < n; ++k) link[k - 1] = confidence[k - 1];
+        result.poses = SpanningTreePoses(result.poses, link, loops.edges());
+      }
+      SolverOptions graph = options.solver;
+      graph.one_step = false;
+      s.presolve = SolvePoses({{}, constraints.local, constraints.matches}, graph, &result.poses);
+      s.seconds_loops += presolve.Seconds();
+    }
 
     Timer stage;
     const std::vector<FramePair> candidates =
@@ -70,8 +95,8 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     s.seconds_pairs = stage.Seconds();
 
     stage.Restart();
-    const std::vector<FeatureCorrespondence> correspondences = FindCorrespondences(
-        candidates, index, result.poses, schedule, it, path, options.correspondences, &s.correspondences);
+    constraints.correspondences = FindCorrespondences(candidates, index, result.poses, schedule, it, path,
+                                                      options.correspondences, &s.correspondences);
     s.seconds_correspondences = stage.Seconds();
 
     SolverOptions solver = options.solver;
@@ -81,9 +106,8 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
           options.weight_correspondence_initial + t * (options.solver.weight_correspondence - options.weight_correspondence_initial);
     }
     s.weight_correspondence = solver.weight_correspondence;
-    const PoseVector before = result.poses;
     stage.Restart();
-    s.solve = SolvePoses(correspondences, local, solver, &result.poses);
+    s.solve = SolvePoses(constraints, solver, &result.poses);
     s.seconds_solve = stage.Seconds();
     for (int k = 0; k < n; ++k) {
       s.max_translation_change =
@@ -93,11 +117,11 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     }
     s.seconds = timer.Seconds();
     if (!run.quiet) {
-      spdlog::info("refine {}/{}: windows of {:.4g} {} ({}), {} pairs, {} correspondences, E_C {:.4g} -> {:.4g}, "
-                   "{} Ceres iterations, max change {:.3f} m / {:.2f} deg, {:.2f} s",
+      spdlog::info("refine {}/{}: windows of {:.4g} {} ({}), {} pairs, {} correspondences, {} SIFT loops (+{}), "
+                   "E_C {:.4g} -> {:.4g}, {} Ceres iterations, max change {:.3f} m / {:.2f} deg, {:.2f} s",
                    it + 1, schedule.iterations(), s.window_length,
                    options.windows.mode == WindowMode::kPath ? "m" : "frames", s.windows, s.candidate_pairs,
-                   s.correspondences.total(), s.solve.cost_before.count("E_C") ? s.solve.cost_before.at("E_C") : 0.0,
+                   s.correspondences.total(), s.loops.pairs, s.loops.accepted, s.solve.cost_before.count("E_C") ? s.solve.cost_before.at("E_C") : 0.0,
                    s.solve.cost_after.count("E_C") ? s.solve.cost_after.at("E_C") : 0.0, s.solve.iterations,
                    s.max_translation_change, s.max_rotation_change_deg, s.seconds);
     }
@@ -114,6 +138,7 @@ nlohmann::json ToJson(const RefineOptions& o) {
           {"pairs", ToJson(o.pairs)},
           {"correspondences", ToJson(o.correspondences)},
           {"local", ToJson(o.local)},
+          {"sift_loops", ToJson(o.loops)},
           {"solver", ToJson(o.solver)},
           {"weight_correspondence_initial", o.weight_correspondence_initial}};
 }
@@ -125,13 +150,16 @@ nlohmann::json ToJson(const IterationSummary& s) {
           {"full", s.full},
           {"candidate_pairs", s.candidate_pairs},
           {"correspondences", ToJson(s.correspondences)},
+          {"sift_loops", ToJson(s.loops)},
           {"local_constraints", s.local_constraints},
           {"weight_correspondence", s.weight_correspondence},
+          {"loop_presolve", s.presolve.termination.empty() ? nlohmann::json(nullptr) : ToJson(s.presolve)},
           {"solve", ToJson(s.solve)},
           {"max_translation_change_m", s.max_translation_change},
           {"max_rotation_change_deg", s.max_rotation_change_deg},
           {"seconds", {{"pairs", s.seconds_pairs},
                        {"correspondences", s.seconds_correspondences},
+                       {"sift_loops", s.seconds_loops},
                        {"solve", s.seconds_solve},
                        {"total", s.seconds}}}};
 }

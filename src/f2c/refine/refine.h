@@ -4,7 +4,9 @@
 //   for i in 0 .. iterations-1:                      windows of l_i frames, l_{i+1} = 2 l_i
 //     pairs  = CandidatePairs(windows_i, poses)      frames that share a window and can overlap
 //     C_i    = FindCorrespondences(pairs, poses)     closest compatible features (E_C)
-//     poses  = argmin w_C E_C + w_L E_L + w_I E_I    (optim/problem.h)
+//     M      = SIFT matches of keyframe pairs that    (beyond the paper; refine/sift_loops.h)
+//              now share a window, verified
+//     poses  = argmin w_C E_C + w_L E_L + w_I E_I + w_M E_M    (optim/problem.h)
 //
 // E_L's constraints come from the odometry once (refine/local_alignment.h). Everything is
 // rebuilt from the current poses each iteration, seeded, so the result does not depend on
@@ -21,6 +23,7 @@
 #include "f2c/refine/feature_index.h"
 #include "f2c/refine/local_alignment.h"
 #include "f2c/refine/pairs.h"
+#include "f2c/refine/sift_loops.h"
 #include "f2c/refine/windows.h"
 
 namespace f2c {
@@ -31,6 +34,7 @@ struct RefineOptions {
   PairOptions pairs;
   CorrespondenceOptions correspondences;
   LocalAlignmentOptions local;
+  SiftLoopOptions loops;
   SolverOptions solver;
   // The authors' linear schedule of E_C's weight: this in the first iteration, falling
   // linearly to solver.weight_correspondence in the last (they use 1500 -> 1000); < 0: off.
@@ -46,12 +50,14 @@ struct IterationSummary {
   bool full = false;         // one window holds the scan
   int candidate_pairs = 0;
   CorrespondenceStats correspondences;
+  SiftLoopStats loops;
   int local_constraints = 0;
   double weight_correspondence = 0;
+  SolveSummary presolve;  // when new SIFT loops were accepted (termination empty otherwise)
   SolveSummary solve;
   double max_translation_change = 0;  // metres, over all poses
   double max_rotation_change_deg = 0;
-  double seconds_pairs = 0, seconds_correspondences = 0, seconds_solve = 0, seconds = 0;
+  double seconds_pairs = 0, seconds_correspondences = 0, seconds_loops = 0, seconds_solve = 0, seconds = 0;
 };
 
 struct RefineResult {
@@ -70,10 +76,12 @@ struct RefineRun {
 FeatureIndex BuildFeatureIndex(const FeatureSet& features, const FeatureIndexOptions& options);
 
 // `pairs` and `t0` are the odometry's (pairs[k-1] aligns frame k to k-1); `index` has one
-// entry per frame.
+// entry per frame; `keyframes` the SIFT of keyframes (refine/keyframes.h), empty for none
+// (then no E_M).
 RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<PairAlignment>& pairs,
                                 const Trajectory& t0, const CameraIntrinsics& intrinsics,
-                                const RefineOptions& options, const RefineRun& run = {});
+                                const RefineOptions& options, const RefineRun& run = {},
+                                std::vector<Keyframe> keyframes = {});
 
 // Camera path from the first frame to each frame (metres).
 std::vector<double> CameraPath(const Trajectory& trajectory);

@@ -1,0 +1,182 @@
+#include "f2c/refine/keyframes.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
+
+#include <cstring>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "f2c/io/image.h"
+#include "f2c/util/error.h"
+#include "f2c/util/file.h"
+
+namespace f2c {
+
+void KeyframeOptions::Check() const {
+  if (interval < 1) ThrowInputError("--keyframe-interval", "must be >= 1");
+  if (max_keypoints < 3) ThrowInputError("--keyframe-keypoints", "must be >= 3");
+}
+
+Keyframe MakeKeyframe(int frame, const SiftFeatures& sift, int max_keypoints) {
+  Keyframe k;
+  k.frame = frame;
+  const int n = static_cast<int>(sift.size());
+  const int take = std::min(n, max_keypoints);
+  k.descriptors.create(take, 128, CV_8U);
+  for (int j = 0; j < take; ++j) {
+    const int i = static_cast<int>(static_cast<int64_t>(j) * n / take);
+    k.points.push_back(sift.points_in_camera[i].cast<float>());
+    sift.descriptors.row(i).convertTo(k.descriptors.row(j), CV_8U);
+  }
+  return k;
+}
+
+namespace {
+
+constexpr char kMagic[8] = {'F', '2', 'C', 'K', 'E', 'Y', 'S', '\0'};
+constexpr uint32_t kVersion = 1;
+
+template <typename T>
+void Put(std::string* out, const T& v) {
+  out->append(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+
+// Reads the cache; a missing, foreign or damaged file gives no entries (and a warning).
+std::map<uint64_t, Keyframe> ReadCache(const std::filesystem::path& path, uint64_t context) {
+  std::map<uint64_t, Keyframe> out;
+  if (path.empty() || !std::filesystem::exists(path)) return out;
+  std::string bytes;
+  try {
+    bytes = ReadFileToString(path);
+  } catch (const InputError&) {
+    return out;
+  }
+  size_t at = 0;
+  auto need = [&](size_t n) { return bytes.size() - at >= n; };
+  auto get = [&](auto* v) {
+    std::memcpy(v, bytes.data() + at, sizeof(*v));
+    at += sizeof(*v);
+  };
+  if (!need(8 + 4 + 8 + 4) || std::memcmp(bytes.data(), kMagic, 8) != 0) {
+    spdlog::warn("{}: not a keyframe cache; recomputing", path.string());
+    return out;
+  }
+  at = 8;
+  uint32_t version, count;
+  uint64_t file_context;
+  get(&version);
+  get(&file_context);
+  get(&count);
+  if (version != kVersion || file_context != context) return out;  // other options: recompute
+  for (uint32_t e = 0; e < count; ++e) {
+    uint64_t key;
+    uint32_t frame, points;
+    if (!need(16)) break;
+    get(&key);
+    get(&frame);
+    get(&points);
+    if (!need(static_cast<size_t>(points) * (12 + 128))) {
+      spdlog::warn("{}: keyframe cache is truncated; recomputing the rest", path.string());
+      break;
+    }
+    Keyframe k;
+    k.frame = static_cast<int>(frame);
+    k.points.resize(points);
+    std::memcpy(k.points.data(), bytes.data() + at, points * 12);
+    at += points * 12;
+    k.descriptors.create(static_cast<int>(points), 128, CV_8U);
+    std::memcpy(k.descriptors.data, bytes.data() + at, points * 128);
+    at += points * 128;
+    out[key] = std::move(k);
+  }
+  return out;
+}
+
+}  // namespace
+
+KeyframeStore::KeyframeStore(const RgbdSequence& sequence, const KeyframeOptions& options, const SiftOptions& sift,
+                             std::filesystem::path cache_file)
+    : seq_(sequence), options_(options), sift_(sift), cache_file_(std::move(cache_file)) {
+  options.Check();
+  RequireIntrinsics(sequence);
+  const nlohmann::json context = {{"interval", options.interval},
+                                  {"max_keypoints", options.max_keypoints},
+                                  {"sift",
+                                   {{"max_features", sift.max_features},
+                                    {"octave_layers", sift.octave_layers},
+                                    {"contrast_threshold", sift.contrast_threshold},
+                                    {"edge_threshold", sift.edge_threshold},
+                                    {"sigma", sift.sigma},
+                                    {"downscale", sift.downscale},
+                                    {"min_depth", sift.min_depth},
+                                    {"max_depth", sift.max_depth},
+                                    {"max_depth_spread", sift.max_depth_spread}}}};
+  context_ = Fnv1a64(CacheContext(sequence, context.dump()));
+  const int n = static_cast<int>(sequence.frames.size());
+  for (int f = 0; f < n; f += options.interval) frames_.push_back(f);
+  keyframes_.resize(frames_.size());
+  keys_.resize(frames_.size());
+  if (cache_file_.empty()) return;
+  tbb::parallel_for(0, static_cast<int>(frames_.size()), [&](int i) {
+    const RgbdFrame& f = seq_.frames[frames_[i]];
+    keys_[i] = (HashFile(f.depth_path) ^ (HashFile(f.color_path) * 31)) ^ (context_ * 0x9E3779B97F4A7C15ULL);
+  });
+  std::map<uint64_t, Keyframe> cache = ReadCache(cache_file_, context_);
+  for (size_t i = 0; i < frames_.size(); ++i) {
+    auto it = cache.find(keys_[i]);
+    if (it != cache.end()) {
+      keyframes_[i] = std::move(it->second);
+      keyframes_[i].frame = frames_[i];
+      ++cached_;
+    }
+  }
+}
+
+void KeyframeStore::Offer(int frame, const SiftFeatures& sift) {
+  if (!IsKeyframe(frame)) return;
+  const size_t i = frame / options_.interval;
+  if (i >= keyframes_.size() || keyframes_[i].frame >= 0) return;
+  keyframes_[i] = MakeKeyframe(frame, sift, options_.max_keypoints);
+}
+
+std::vector<Keyframe> KeyframeStore::Finish() {
+  std::vector<int> missing;
+  for (size_t i = 0; i < frames_.size(); ++i) {
+    if (keyframes_[i].frame < 0) missing.push_back(static_cast<int>(i));
+  }
+  tbb::parallel_for(0, static_cast<int>(missing.size()), [&](int m) {
+    const int i = missing[m];
+    const RgbdFrame& frame = seq_.frames[frames_[i]];
+    const cv::Mat depth = LoadDepthMeters(seq_, frame);
+    cv::Mat gray;
+    cv::cvtColor(LoadColor(frame, depth.size()), gray, cv::COLOR_BGR2GRAY);
+    keyframes_[i] = MakeKeyframe(frames_[i], ExtractSiftWithDepth(gray, depth, *seq_.intrinsics, sift_), options_.max_keypoints);
+  });
+  computed_ = static_cast<int>(frames_.size()) - cached_;
+  if (!cache_file_.empty() && !missing.empty()) {
+    std::string out(kMagic, 8);
+    Put(&out, kVersion);
+    Put(&out, context_);
+    Put(&out, static_cast<uint32_t>(frames_.size()));
+    for (size_t i = 0; i < frames_.size(); ++i) {
+      const Keyframe& k = keyframes_[i];
+      Put(&out, keys_[i]);
+      Put(&out, static_cast<uint32_t>(k.frame));
+      Put(&out, static_cast<uint32_t>(k.points.size()));
+      out.append(reinterpret_cast<const char*>(k.points.data()), k.points.size() * 12);
+      out.append(reinterpret_cast<const char*>(k.descriptors.data), k.points.size() * 128);
+    }
+    std::filesystem::create_directories(cache_file_.parent_path().empty() ? "." : cache_file_.parent_path());
+    WriteFileAtomic(cache_file_, out);
+  }
+  return std::move(keyframes_);
+}
+
+nlohmann::json ToJson(const KeyframeOptions& o) {
+  return {{"interval", o.interval}, {"max_keypoints", o.max_keypoints}};
+}
+
+}  // namespace f2c
