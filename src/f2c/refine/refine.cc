@@ -107,6 +107,10 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     }
     s.weight_correspondence = solver.weight_correspondence;
     stage.Restart();
+    // Polish iterations trust the closest features alone: SIFT points (depth read at a
+    // keypoint, colour and depth not always registered) are less precise than they are, and
+    // by then the loops they closed are within the correspondences' reach.
+    if (schedule.Polishing(it) && !options.loops.in_polish) constraints.matches.clear();
     s.solve = SolvePoses(constraints, solver, &result.poses);
     s.seconds_solve = stage.Seconds();
     for (int k = 0; k < n; ++k) {

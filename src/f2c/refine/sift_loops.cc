@@ -196,6 +196,7 @@ nlohmann::json ToJson(const SiftLoopOptions& o) {
           {"max_points_per_pair", o.max_points_per_pair},
           {"presolve", o.presolve},
           {"spanning_tree", o.spanning_tree},
+          {"in_polish", o.in_polish},
           {"loop_confidence", o.loop_confidence},
           {"seed", o.seed}};
 }

@@ -60,6 +60,8 @@ struct SiftLoopOptions {
   // ...starting from poses re-placed along the maximum spanning tree of the odometry links
   // and the loops (refine/spanning_tree.h), loops trusted like this.
   bool spanning_tree = true;
+  // Whether E_M stays in the polish iterations (refine/windows.h).
+  bool in_polish = false;
   double loop_confidence = 0.95;
   uint64_t seed = 0;
 
