@@ -24,11 +24,12 @@ void AddFrameSelection(CLI::App* cmd, f2c::IoOptions* io) {
   cmd->add_option("--intrinsics", io->intrinsics,
                   "fx,fy,cx,cy or a preset: tum-fr1, tum-fr2, tum-fr3, primesense (TUM folders "
                   "carry none; overrides a dataset's own)");
-  cmd->add_option("--every", io->every, "use every N-th frame")->check(CLI::PositiveNumber);
-  cmd->add_option("--first", io->first, "first frame (0-based)")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--last", io->last, "last frame, inclusive (-1: the end)");
+  cmd->add_option("--every", io->every, "use every N-th frame")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--first", io->first, "first frame (0-based)")->check(CLI::NonNegativeNumber)->capture_default_str();
+  cmd->add_option("--last", io->last, "last frame, inclusive (-1: the end)")->capture_default_str();
   cmd->add_option("--sequence", io->sequence,
-                  "7-Scenes/3DMatch: read only this seq-XX subfolder (default: all, joined)");
+                  "7-Scenes/3DMatch: read only this seq-XX subfolder (default: all, joined)")
+      ->capture_default_str();
 }
 
 void AddFeatureOptions(CLI::App* cmd, f2c::FeatureOptions* f) {

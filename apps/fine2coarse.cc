@@ -25,6 +25,11 @@ int main(int argc, char** argv) {
   CLI::App app{"fine2coarse: fine-to-coarse global registration of RGB-D scans"};
   app.require_subcommand(1);
   app.set_version_flag("--version", F2C_VERSION);
+  // Runs reproducible from a file: options in TOML/INI, one section per subcommand
+  // ([register]); an unknown key is an error, not a hint. register --write-config writes one.
+  app.set_config("--config", "", "read options from a TOML/INI file ([register] section; --write-config writes one)");
+  app.allow_config_extras(CLI::config_extras_mode::error);
+  app.fallthrough();
   using namespace f2c::app;
   const std::vector<Subcommand> commands = {AddRegisterCommand(&app), AddFeaturesCommand(&app),
                                             AddEvaluateCommand(&app), AddSimulateCommand(&app),

@@ -75,6 +75,27 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
   add(e, "--solver-threads", &o->solver.threads, "Ceres threads (0: as --threads)");
   add(e, "--refine-seed", &o->correspondences.seed, "seed of the correspondence sampling");
 
+  const std::string l = "Refinement: SIFT loops and bridges (beyond the paper)";
+  auto& lo = o->loops;
+  cmd->add_flag("--sift-loops,!--no-sift-loops", lo.enabled, "SIFT re-matching of keyframes (default on; --no-sift-loops: closest features only, as the paper)")
+      ->default_str(lo.enabled ? "true" : "false")
+      ->group(l);
+  add(l, "--keyframe-interval", &lo.keyframes.interval, "every N-th frame keeps its SIFT for re-matching");
+  add(l, "--keyframe-keypoints", &lo.keyframes.max_keypoints, "SIFT points kept per keyframe");
+  add(l, "--loop-candidates", &lo.candidates_per_keyframe, "new loop (and bridge) partners per keyframe and iteration");
+  add(l, "--loop-gap", &lo.loop_gap, "loops: keyframes at least this many frames apart");
+  add(l, "--bridge-gap", &lo.max_bridge_gap, "bridges over weak odometry: at most this many frames apart");
+  add(l, "--loop-max-distance", &lo.max_camera_distance, "loops: cameras at most this far apart now (m)");
+  add(l, "--loop-max-view-angle", &lo.max_view_angle_deg, "loops: optical axes within this now (deg)");
+  add(l, "--loop-ratio", &lo.ratio, "loops: SIFT ratio test");
+  add(l, "--loop-min-inliers", &lo.min_inliers, "loops: RANSAC inliers needed");
+  add(l, "--loop-min-fitness", &lo.min_fitness, "loops: share of seen planes the match must explain");
+  add(l, "--loop-points", &lo.max_points_per_pair, "E_M points kept per matched pair");
+  cmd->add_flag("--spanning-tree,!--no-spanning-tree", lo.spanning_tree, "re-place poses along the most trusted links when loops arrive (default on)")
+      ->default_str(lo.spanning_tree ? "true" : "false")
+      ->group(l);
+  cmd->add_flag("--loop-in-polish", lo.in_polish, "keep E_M in the polish iterations")->group(l);
+
   return [o, names] {
     o->windows.mode = WindowModeFromName(names->windows);
     o->correspondences.schedule = ThresholdScheduleFromName(names->thresholds);

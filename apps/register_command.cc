@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <opencv2/core/utility.hpp>
 #include <tbb/global_control.h>
 
@@ -245,6 +246,9 @@ Subcommand AddRegisterCommand(CLI::App* app) {
       ->check(CLI::IsMember({"odometry", "refine"}))
       ->capture_default_str();
   const std::function<void()> refine_names = AddRefineOptions(cmd, &args->refine);
+  auto write_config = std::make_shared<std::string>();
+  cmd->add_option("--write-config", *write_config, "write this run's options (all of them) to FILE as TOML, for --config")
+      ->group("Output");
   cmd->add_flag("--save-iterations", args->save_iterations, "write each refinement iteration's trajectory to OUTDIR/iterations/");
   cmd->add_flag("--no-features", flags->no_features, "skip the feature extraction, and so the refinement (T0 only)");
   cmd->add_flag("--no-icp-fallback", flags->no_icp, "never use depth-only ICP");
@@ -254,8 +258,18 @@ Subcommand AddRegisterCommand(CLI::App* app) {
       ->capture_default_str();
   cmd->add_flag("-q,--quiet", args->quiet, "no progress output");
 
-  return {cmd, [args, flags, refine_names] {
+  return {cmd, [app, args, flags, refine_names, write_config] {
     refine_names();
+    if (!write_config->empty()) {
+      // Every option with its value (defaults too), so the file reproduces the run.
+      std::string text;
+      std::istringstream lines(app->config_to_str(true, false));
+      for (std::string line; std::getline(lines, line);) {
+        if (line.find("write-config=") == std::string::npos) text += line + "\n";
+      }
+      WriteFileAtomic(*write_config, text);
+      spdlog::info("options written to {}", *write_config);
+    }
     args->run_refinement = flags->stop_after == "refine" && !flags->no_features;
     if (args->run_refinement) args->refine.Check();  // before minutes of odometry
     args->odometry.icp_fallback = !flags->no_icp;

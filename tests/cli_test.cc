@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fmt/format.h>
 
 #include "f2c/features/feature_set.h"
 #include "f2c/io/ply.h"
@@ -105,6 +106,71 @@ TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
   const Result log = RunCli("evaluate --estimate " + (out / "trajectory.log").string() + " --ground-truth " + dir.string());
   EXPECT_EQ(log.code, 0) << log.output;
   EXPECT_NE(log.output.find("5 of 5 poses associated"), std::string::npos) << log.output;
+}
+
+// The refinement runs by default: T0 beside the refined trajectory, per-iteration summaries in
+// run.json, each iteration's poses on request; --stop-after odometry makes T0 the result.
+TEST(Cli, RegisterRefinesAndKeepsT0) {
+  const fs::path dir = SyntheticTum("cli_refine", 12);
+  const fs::path out = testing::FreshTempDir("cli_refine_out");
+  const std::string base = "register " + dir.string() + " --intrinsics primesense -q --window-frames 4 ";
+  const Result r = RunCli(base + "--save-iterations -o " + out.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("(TUM; refined)"), std::string::npos) << r.output;
+  const Trajectory t0 = ReadTumTrajectory(out / "trajectory_t0.txt");
+  const Trajectory refined = ReadTumTrajectory(out / "trajectory.txt");
+  ASSERT_EQ(refined.size(), 12u);
+  // The synthetic walk moves 3 cm per frame: the refined poses keep it.
+  EXPECT_NEAR(refined.world_from_camera[11].translation().x(), 0.33, 0.01);
+  const std::string run = ReadFileToString(out / "run.json");
+  EXPECT_NE(run.find("\"result\": \"refined\""), std::string::npos);
+  EXPECT_NE(run.find("\"candidate_pairs\""), std::string::npos);
+  // l_0 = 4 over 12 frames: 4, 8, 16 (full), then 2 extra and 6 polish iterations.
+  for (int i = 1; i <= 11; ++i) EXPECT_TRUE(fs::exists(out / "iterations" / fmt::format("iteration_{:02d}.txt", i))) << i;
+  EXPECT_FALSE(fs::exists(out / "iterations" / "iteration_12.txt"));
+
+  const fs::path odo = testing::FreshTempDir("cli_refine_odometry");
+  ASSERT_EQ(RunCli(base + "--stop-after odometry -o " + odo.string()).code, 0);
+  EXPECT_EQ(ReadFileToString(odo / "trajectory.txt"), ReadFileToString(odo / "trajectory_t0.txt"));
+  EXPECT_EQ(ReadFileToString(odo / "trajectory_t0.txt"), ReadFileToString(out / "trajectory_t0.txt"));
+}
+
+// Any run's options can be written and re-run: the same poses come back.
+TEST(Cli, WriteConfigThenConfigReproducesTheRun) {
+  const fs::path dir = SyntheticTum("cli_config", 8);
+  const fs::path out = testing::FreshTempDir("cli_config_out");
+  const fs::path config = out / "run.toml";
+  ASSERT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --window-frames 2 --no-sift-loops "
+                   "--loss huber --write-config " + config.string() + " -o " + (out / "a").string())
+                .code,
+            0);
+  const std::string text = ReadFileToString(config);
+  EXPECT_NE(text.find("register.window-frames=2"), std::string::npos) << text;
+  EXPECT_NE(text.find("register.sift-loops=false"), std::string::npos);
+  EXPECT_NE(text.find("register.loss=\"huber\""), std::string::npos);
+  // Re-run from the file into another folder.
+  std::string edited = text;
+  const std::string from = "register.output=\"" + (out / "a").string() + "\"";
+  ASSERT_NE(edited.find(from), std::string::npos);
+  edited.replace(edited.find(from), from.size(), "register.output=\"" + (out / "b").string() + "\"");
+  WriteFileAtomic(out / "b.toml", edited);
+  const Result r = RunCli("--config " + (out / "b.toml").string() + " register");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(ReadFileToString(out / "a" / "trajectory.txt"), ReadFileToString(out / "b" / "trajectory.txt"));
+  // A misspelt key is an error, not a hint.
+  WriteFileAtomic(out / "bad.toml", "register.windw-frames=4\n");
+  EXPECT_EQ(RunCli("--config " + (out / "bad.toml").string() + " register " + dir.string() + " -o /tmp/x").code, 2);
+}
+
+TEST(Cli, BadRefinementOptionFailsBeforeAnyWork) {
+  const fs::path dir = SyntheticTum("cli_refine_bad", 2);
+  const fs::path out = testing::FreshTempDir("cli_refine_bad_out") / "run";
+  const Result r = RunCli("register " + dir.string() + " --intrinsics primesense -q --window-frames 1 -o " + out.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.output, "error: --window-frames: must be >= 2, got 1\n");
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --windows time -o " + out.string()).output,
+            "error: --windows: unknown window mode 'time' (frames, path)\n");
 }
 
 TEST(Cli, FeaturesWritesTheCacheImagesAndPointSetsAndReusesTheCache) {
