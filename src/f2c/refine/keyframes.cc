@@ -155,8 +155,8 @@ std::vector<Keyframe> KeyframeStore::Finish() {
     cv::cvtColor(LoadColor(frame, depth.size()), gray, cv::COLOR_BGR2GRAY);
     keyframes_[i] = MakeKeyframe(frames_[i], ExtractSiftWithDepth(gray, depth, *seq_.intrinsics, sift_), options_.max_keypoints);
   });
-  computed_ = static_cast<int>(frames_.size()) - cached_;
-  if (!cache_file_.empty() && !missing.empty()) {
+  computed_ = static_cast<int>(missing.size());
+  if (!cache_file_.empty() && cached_ < static_cast<int>(frames_.size())) {
     std::string out(kMagic, 8);
     Put(&out, kVersion);
     Put(&out, context_);

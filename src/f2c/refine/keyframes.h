@@ -48,7 +48,7 @@ class KeyframeStore {
   // Decodes and describes the keyframes still missing (in parallel), writes the cache, and
   // returns them all in frame order.
   std::vector<Keyframe> Finish();
-  int computed() const { return computed_; }
+  int computed() const { return computed_; }  // decoded again by Finish()
   int cached() const { return cached_; }
 
  private:

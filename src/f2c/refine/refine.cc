@@ -9,6 +9,34 @@
 #include "f2c/util/timer.h"
 
 namespace f2c {
+namespace {
+
+// Largest change of any pose between two sets: metres and degrees.
+std::pair<double, double> MaxChange(const PoseVector& a, const PoseVector& b) {
+  double t = 0, r = 0;
+  for (size_t k = 0; k < a.size(); ++k) {
+    t = std::max(t, (a[k].translation - b[k].translation).norm());
+    r = std::max(r, a[k].rotation.angularDistance(b[k].rotation) * 180 / M_PI);
+  }
+  return {t, r};
+}
+
+// The 90th percentile of the distances between the two sightings of matched points under
+// `poses` (metres): large when some loop is not closed yet (single noisy points aside).
+double MatchError(const PoseVector& poses, const std::vector<PointMatch>& matches) {
+  if (matches.empty()) return 0;
+  std::vector<double> e;
+  for (const PointMatch& m : matches) {
+    const Eigen::Vector3d a = poses[m.frame_a].ToRigid() * m.point_a.cast<double>();
+    const Eigen::Vector3d b = poses[m.frame_b].ToRigid() * m.point_b.cast<double>();
+    e.push_back((a - b).norm());
+  }
+  const size_t k = e.size() * 9 / 10;
+  std::nth_element(e.begin(), e.begin() + k, e.end());
+  return e[k];
+}
+
+}  // namespace
 
 void RefineOptions::Check() const {
   windows.Check();
@@ -77,14 +105,20 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     constraints.matches = loops.matches();
     if (s.loops.accepted > 0 && options.loops.presolve) {
       Timer presolve;
+      const PoseVector unplaced = result.poses;
       if (options.loops.spanning_tree) {
         std::vector<double> link(n - 1);
         for (int k = 1; k < n; ++k) link[k - 1] = confidence[k - 1];
         result.poses = SpanningTreePoses(result.poses, link, loops.edges());
       }
-      SolverOptions graph = options.solver;
-      graph.one_step = false;
-      s.presolve = SolvePoses({{}, constraints.local, constraints.matches}, graph, &result.poses);
+      // Only loops that disagree with the poses need the converged solve (the spanning tree
+      // moved poses, or matches are far off); the others join this iteration's one step.
+      if (MaxChange(unplaced, result.poses).first > options.loops.presolve_min_change ||
+          MatchError(result.poses, constraints.matches) > options.loops.presolve_min_change) {
+        SolverOptions graph = options.solver;
+        graph.one_step = false;
+        s.presolve = SolvePoses({{}, constraints.local, constraints.matches}, graph, &result.poses);
+      }
       s.seconds_loops += presolve.Seconds();
     }
 
@@ -113,12 +147,7 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     if (schedule.Polishing(it) && !options.loops.in_polish) constraints.matches.clear();
     s.solve = SolvePoses(constraints, solver, &result.poses);
     s.seconds_solve = stage.Seconds();
-    for (int k = 0; k < n; ++k) {
-      s.max_translation_change =
-          std::max(s.max_translation_change, (result.poses[k].translation - before[k].translation).norm());
-      s.max_rotation_change_deg =
-          std::max(s.max_rotation_change_deg, result.poses[k].rotation.angularDistance(before[k].rotation) * 180 / M_PI);
-    }
+    std::tie(s.max_translation_change, s.max_rotation_change_deg) = MaxChange(before, result.poses);
     s.seconds = timer.Seconds();
     if (!run.quiet) {
       spdlog::info("refine {}/{}: windows of {:.4g} {} ({}), {} pairs, {} correspondences, {} SIFT loops (+{}), "

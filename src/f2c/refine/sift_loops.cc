@@ -195,6 +195,7 @@ nlohmann::json ToJson(const SiftLoopOptions& o) {
           {"check_angle_deg", o.check_angle_deg},
           {"max_points_per_pair", o.max_points_per_pair},
           {"presolve", o.presolve},
+          {"presolve_min_change", o.presolve_min_change},
           {"spanning_tree", o.spanning_tree},
           {"in_polish", o.in_polish},
           {"loop_confidence", o.loop_confidence},

@@ -57,6 +57,8 @@ struct SiftLoopOptions {
   // In an iteration that accepted new matches, first solve E_M + E_L + E_I to convergence
   // (refine/refine.h), so closest points are searched under the poses the loops imply.
   bool presolve = true;
+  // ...when the re-placement moved a pose, or a match is off, by more than this (metres).
+  double presolve_min_change = 0.1;
   // ...starting from poses re-placed along the maximum spanning tree of the odometry links
   // and the loops (refine/spanning_tree.h), loops trusted like this.
   bool spanning_tree = true;
