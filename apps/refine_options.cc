@@ -12,13 +12,14 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
     cmd->add_option(name, *value, help)->capture_default_str()->group(group);
   };
   struct Names {
-    std::string windows = "frames", thresholds = "age", loss = "cauchy", solve = "one-step";
+    std::string windows = "frames", thresholds = "age", loss = "cauchy", solve = "one-step", linear = "sparse";
   };
   auto names = std::make_shared<Names>();
   names->windows = WindowModeName(o->windows.mode);
   names->thresholds = ThresholdScheduleName(o->correspondences.schedule);
   names->loss = RobustLossName(o->solver.loss);
   names->solve = o->solver.one_step ? "one-step" : "converge";
+  names->linear = o->solver.iterative ? "cgnr" : "sparse";
 
   const std::string w = "Refinement: windows (paper 4.2)";
   add(w, "--windows", &names->windows, "frames: l_0 consecutive frames, doubling (the paper); path: by camera path (the authors' code)");
@@ -72,6 +73,8 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
   add(e, "--loss-scale", &o->solver.loss_scale, "its scale (m)");
   add(e, "--solver-iterations", &o->solver.max_iterations, "Ceres iterations per refinement iteration");
   add(e, "--solve", &names->solve, "one-step: one Gauss-Newton step per iteration (the authors' code); converge: to convergence");
+  add(e, "--linear-solver", &names->linear, "sparse: Cholesky (exact); cgnr: conjugate gradients (memory linear in the constraints)");
+  add(e, "--linear-iterations", &o->solver.max_linear_iterations, "cgnr: iterations per step");
   add(e, "--solver-threads", &o->solver.threads, "Ceres threads (0: as --threads)");
   add(e, "--refine-seed", &o->correspondences.seed, "seed of the correspondence sampling");
 
@@ -104,6 +107,10 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
       throw InputError("--solve: unknown mode '" + names->solve + "' (one-step, converge)");
     }
     o->solver.one_step = names->solve == "one-step";
+    if (names->linear != "sparse" && names->linear != "cgnr") {
+      throw InputError("--linear-solver: unknown solver '" + names->linear + "' (sparse, cgnr)");
+    }
+    o->solver.iterative = names->linear == "cgnr";
   };
 }
 

@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <atomic>
 #include <optional>
 #include <sstream>
 #include <opencv2/core/utility.hpp>
@@ -88,11 +89,25 @@ int RunRegister(const RegisterArgs& args) {
 
   // Features from the depth images the odometry decodes (no second decode); frames it
   // does not decode (pairs from its cache) are decoded by the extraction itself.
+  // Each frame's features go straight into the refinement's compact index (or are dropped
+  // when it does not run): the full set is never held, and the cache is streamed to disk.
   std::optional<FeatureExtraction> extraction;
+  std::optional<FeatureIndex> index;
+  std::atomic<int64_t> index_ns{0};
   if (args.extract_features) {
+    if (args.run_refinement) {
+      index.emplace();
+      index->frames.resize(seq.frames.size());
+    }
     FeatureRun feature_run;
     feature_run.quiet = args.quiet;
     if (args.use_cache) feature_run.cache_file = out / "cache" / "features.f2cf";
+    feature_run.on_frame = [&](int frame, FrameFeatures&& features) {
+      if (!index) return;
+      Timer timer;
+      index->frames[frame] = BuildFrameIndex(features, args.refine.features);
+      index_ns += static_cast<int64_t>(timer.Seconds() * 1e9);
+    };
     extraction.emplace(seq, args.features, feature_run);
   }
   OdometryRun run;
@@ -113,23 +128,17 @@ int RunRegister(const RegisterArgs& args) {
                stats["motion_prior"].get<int>(), odometry.timings.wall);
 
   json feature_stage = nullptr, feature_stats = nullptr;
-  std::optional<FeatureIndex> index;
-  double index_s = 0;
   if (extraction) {
     FeatureTimings timings;
-    const FeatureSet features = extraction->Finish(&timings);
+    extraction->Finish(&timings);
     feature_stage = ToJson(timings, static_cast<int>(seq.frames.size()));
-    feature_stats = FeatureStatistics(features);
+    feature_stats = extraction->Statistics();
     spdlog::info("features: {:.0f} per frame, {:.1f} proxies per frame ({:.1f} s of CPU)",
                  feature_stats["per_frame"]["features"].get<double>(),
                  feature_stats["per_frame"]["proxies"].get<double>(), timings.extract + timings.decode);
-    if (args.run_refinement) {
-      // The refinement keeps a compact subsample with k-d trees; the full set is dropped here.
-      Timer index_timer;
-      index = BuildFeatureIndex(features, args.refine.features);
-      index_s = index_timer.Seconds();
-    }
   }
+  const double index_s = index_ns * 1e-9;  // CPU seconds, inside the feature extraction
+  const int64_t peak_before_refine = PeakResidentBytes();
 
   WriteTumTrajectory(out / "trajectory_t0.txt", odometry.t0);
   Trajectory result = odometry.t0;
@@ -156,6 +165,8 @@ int RunRegister(const RegisterArgs& args) {
                     {"keyframes_s", keyframe_s},
                     {"ms_per_frame", 1000.0 * (refined.seconds + index_s + keyframe_s) / seq.frames.size()},
                     {"index_bytes", index->MemoryBytes()},
+                    {"peak_memory_bytes_before", peak_before_refine},
+                    {"peak_memory_bytes_after", PeakResidentBytes()},
                     {"iterations", iterations}};
     spdlog::info("refinement: {} iterations in {:.1f} s ({:.1f} ms per frame)", refined.iterations.size(),
                  refined.seconds + index_s, 1000.0 * (refined.seconds + index_s) / seq.frames.size());

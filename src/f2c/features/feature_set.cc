@@ -9,6 +9,9 @@
 #include <map>
 #include <mutex>
 #include <string_view>
+#include <fstream>
+#include <unordered_map>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include "f2c/io/image.h"
@@ -180,6 +183,91 @@ std::vector<FeatureCacheEntry> ReadFeatureCache(const std::filesystem::path& pat
   return entries;
 }
 
+// The new cache, streamed: header first (its count patched at the end), then each frame's
+// entry as it arrives, in any order (readers match entries by key); renamed into place when
+// complete, removed if the run ends early.
+class FeatureExtraction::CacheWriter {
+ public:
+  CacheWriter(std::filesystem::path path, uint64_t context) : path_(std::move(path)) {
+    std::filesystem::create_directories(path_.parent_path().empty() ? "." : path_.parent_path());
+    tmp_ = path_.string() + ".tmp." + std::to_string(::getpid());
+    file_ = std::fopen(tmp_.c_str(), "wb");
+    if (file_ == nullptr) ThrowInputError(path_, "cannot write feature cache");
+    Writer w;
+    w.PutBytes(std::string(kMagic, sizeof(kMagic)));
+    w.Put(kVersion);
+    w.Put(context);
+    w.Put(static_cast<uint32_t>(0));  // count, patched by Commit()
+    Write(w.bytes());
+  }
+  ~CacheWriter() {
+    if (file_ != nullptr) {
+      std::fclose(file_);
+      std::filesystem::remove(tmp_);
+    }
+  }
+  void Append(uint64_t key, const FrameFeatures& f) {
+    Writer w;
+    w.Put(key);
+    PutFrame(w, f);
+    std::lock_guard<std::mutex> lock(mutex_);
+    Write(w.bytes());
+    ++count_;
+  }
+  void Commit() {
+    std::fseek(file_, sizeof(kMagic) + 4 + 8, SEEK_SET);
+    const uint32_t count = count_;
+    std::fwrite(&count, sizeof(count), 1, file_);
+    const bool ok = std::fflush(file_) == 0 && !std::ferror(file_);
+    std::fclose(file_);
+    file_ = nullptr;
+    if (!ok) {
+      std::filesystem::remove(tmp_);
+      ThrowInputError(path_, "cannot write feature cache");
+    }
+    std::filesystem::rename(tmp_, path_);
+  }
+
+ private:
+  void Write(const std::string& bytes) {
+    if (std::fwrite(bytes.data(), 1, bytes.size(), file_) != bytes.size()) ThrowInputError(path_, "cannot write feature cache");
+  }
+  std::filesystem::path path_;
+  std::string tmp_;
+  std::FILE* file_ = nullptr;
+  std::mutex mutex_;
+  uint32_t count_ = 0;
+};
+
+namespace {
+
+// Reads one cache entry's bytes after its key (note, proxies, features) from `in`; false at a
+// short read. `bytes` receives them unless null (then they are skipped).
+bool ReadEntryBody(std::ifstream& in, std::string* bytes) {
+  auto take = [&](size_t n) {
+    if (bytes == nullptr) {
+      in.seekg(static_cast<std::streamoff>(n), std::ios::cur);
+      return static_cast<bool>(in);
+    }
+    const size_t at = bytes->size();
+    bytes->resize(at + n);
+    return static_cast<bool>(in.read(bytes->data() + at, static_cast<std::streamsize>(n)));
+  };
+  auto read_count = [&](auto* value) {
+    if (!in.read(reinterpret_cast<char*>(value), sizeof(*value))) return false;
+    if (bytes) bytes->append(reinterpret_cast<const char*>(value), sizeof(*value));
+    return true;
+  };
+  uint16_t note = 0;
+  uint32_t proxies = 0, features = 0;
+  return read_count(&note) && take(note) && read_count(&proxies) && take(static_cast<size_t>(proxies) * kProxyBytes) &&
+         read_count(&features) && take(static_cast<size_t>(features) * kFeatureBytes);
+}
+
+}  // namespace
+
+FeatureExtraction::~FeatureExtraction() = default;
+
 FeatureExtraction::FeatureExtraction(const RgbdSequence& seq, const FeatureOptions& options, const FeatureRun& run)
     : seq_(seq), options_(options), run_(run) {
   options.Check();
@@ -188,9 +276,24 @@ FeatureExtraction::FeatureExtraction(const RgbdSequence& seq, const FeatureOptio
   set_.frames.resize(n);
   state_.assign(n, kMissing);
   keys_.assign(n, 0);
+  notes_.resize(n);
+  empty_.assign(n, 0);
   context_ = Fnv1a64(CacheContext(seq, ToJson(options).dump()));
   if (!run.cache_file.empty()) ReadCache();
   setup_s_ = wall_.Seconds();
+}
+
+void FeatureExtraction::Deliver(int frame, FrameFeatures&& f) {
+  for (const Feature& x : f.features) ++tally_[static_cast<int>(x.type)];
+  tally_[kFeatureTypeCount] += static_cast<long>(f.proxies.size());
+  notes_[frame] = f.note;
+  empty_[frame] = f.features.empty();
+  if (writer_) writer_->Append(keys_[frame], f);
+  if (run_.on_frame) {
+    run_.on_frame(frame, std::move(f));
+  } else {
+    set_.frames[frame] = std::move(f);
+  }
 }
 
 void FeatureExtraction::ReadCache() {
@@ -198,34 +301,83 @@ void FeatureExtraction::ReadCache() {
   Timer timer;
   tbb::parallel_for(0, n, [&](int i) { keys_[i] = HashFile(seq_.frames[i].depth_path) ^ (context_ * 0x9E3779B97F4A7C15ULL); });
   timings_.hashing = timer.Seconds();
-  if (!std::filesystem::exists(run_.cache_file)) return;
-  try {
-    uint64_t file_context = 0;
-    std::vector<FeatureCacheEntry> entries = ReadFeatureCache(run_.cache_file, &file_context);
-    if (file_context != context_) return;
-    std::map<uint64_t, FrameFeatures*> by_key;
-    for (FeatureCacheEntry& e : entries) by_key[e.key] = &e.features;
-    for (int i = 0; i < n; ++i) {
-      const auto it = by_key.find(keys_[i]);
-      if (it == by_key.end()) continue;
-      set_.frames[i] = *it->second;  // a copy: frames with identical bytes share a key
-      state_[i] = kCached;
+  std::unordered_map<uint64_t, std::vector<int>> frames_of;  // frames with identical bytes share a key
+  for (int i = 0; i < n; ++i) frames_of[keys_[i]].push_back(i);
+  // Pass 1: which frames the cache holds (entries' keys; their bodies skipped). The cache is
+  // streamed, never held whole: 100 KB per frame would be 1.5 GB at 15,000 frames.
+  std::vector<char> hit(n, 0);
+  const std::filesystem::path& path = run_.cache_file;
+  auto open = [&](std::ifstream& in) -> bool {
+    in.open(path, std::ios::binary);
+    char magic[sizeof(kMagic)];
+    uint32_t version = 0, count = 0;
+    uint64_t context = 0;
+    if (!in.read(magic, sizeof(magic)) || std::string(magic, sizeof(magic)) != std::string(kMagic, sizeof(kMagic))) {
+      spdlog::warn("{}: not a fine2coarse feature cache (recomputing)", path.string());
+      return false;
     }
-  } catch (const InputError& e) {
-    spdlog::warn("{} (recomputing)", e.what());  // only a cache
+    in.read(reinterpret_cast<char*>(&version), 4);
+    in.read(reinterpret_cast<char*>(&context), 8);
+    in.read(reinterpret_cast<char*>(&count), 4);
+    return in && version == kVersion && context == context_;
+  };
+  if (std::filesystem::exists(path)) {
+    std::ifstream in;
+    if (open(in)) {
+      uint64_t key = 0;
+      while (in.read(reinterpret_cast<char*>(&key), 8)) {
+        if (!ReadEntryBody(in, nullptr)) {
+          spdlog::warn("{}: feature cache is truncated or corrupt (recomputing what it lacks)", path.string());
+          break;
+        }
+        const auto it = frames_of.find(key);
+        if (it != frames_of.end()) {
+          for (int i : it->second) hit[i] = 1;
+        }
+      }
+    }
+  }
+  const int hits = static_cast<int>(std::count(hit.begin(), hit.end(), 1));
+  if (hits < n) writer_ = std::make_unique<CacheWriter>(path, context_);
+  if (hits == 0) return;
+  // Pass 2: hand over the frames it holds (and copy them into the new cache, if one is
+  // written).
+  std::ifstream in;
+  if (!open(in)) return;
+  uint64_t key = 0;
+  std::string body;
+  while (in.read(reinterpret_cast<char*>(&key), 8)) {
+    body.clear();
+    if (!ReadEntryBody(in, &body)) break;
+    const auto it = frames_of.find(key);
+    if (it == frames_of.end() || state_[it->second.front()] != kMissing) continue;
+    try {
+      Reader r(path, body);
+      FrameFeatures f = GetFrame(r, path);
+      for (size_t k = 0; k < it->second.size(); ++k) {
+        const int i = it->second[k];
+        state_[i] = kCached;
+        Deliver(i, k + 1 < it->second.size() ? FrameFeatures(f) : std::move(f));
+      }
+    } catch (const InputError& e) {
+      spdlog::warn("{} (recomputing)", e.what());  // only a cache
+      if (!writer_) writer_ = std::make_unique<CacheWriter>(path, context_);
+    }
   }
   timings_.frames_cached = static_cast<int>(std::count(state_.begin(), state_.end(), kCached));
+  if (timings_.frames_cached < n && !writer_) writer_ = std::make_unique<CacheWriter>(path, context_);
   if (timings_.frames_cached > 0) {
-    spdlog::info("features: {} of {} frames from cache {}", timings_.frames_cached, n, run_.cache_file.string());
+    spdlog::info("features: {} of {} frames from cache {}", timings_.frames_cached, n, path.string());
   }
 }
 
 void FeatureExtraction::Compute(int frame, const cv::Mat& depth) {
   if (state_[frame] != kMissing) return;
   Timer extract;
-  set_.frames[frame] = ExtractFrameFeatures(depth, *seq_.intrinsics, options_);
+  FrameFeatures f = ExtractFrameFeatures(depth, *seq_.intrinsics, options_);
   extract_ns_ += static_cast<int64_t>(extract.Seconds() * 1e9);
   state_[frame] = kComputed;
+  Deliver(frame, std::move(f));
 }
 
 FeatureSet FeatureExtraction::Finish(FeatureTimings* timings) {
@@ -249,20 +401,19 @@ FeatureSet FeatureExtraction::Finish(FeatureTimings* timings) {
   std::map<std::string, std::pair<int, int>> notes;  // note -> (frames, first frame)
   std::map<std::string, bool> empty;                  // note -> some frame with it has no features
   for (int i = 0; i < n; ++i) {
-    if (state_[i] != kComputed || set_.frames[i].note.empty()) continue;
-    auto [it, inserted] = notes.try_emplace(set_.frames[i].note, 0, i);
+    if (state_[i] != kComputed || notes_[i].empty()) continue;
+    auto [it, inserted] = notes.try_emplace(notes_[i], 0, i);
     ++it->second.first;
-    empty[set_.frames[i].note] = empty[set_.frames[i].note] || set_.frames[i].features.empty();
+    empty[notes_[i]] = empty[notes_[i]] || empty_[i];
   }
   for (const auto& [note, where] : notes) {
     spdlog::log(empty[note] ? spdlog::level::warn : spdlog::level::info, "features: {} in {} frame(s), first {}", note,
                 where.first, seq_.frames[where.second].depth_path.string());
   }
   timings_.frames_computed = n - timings_.frames_cached;
-  if (!run_.cache_file.empty() && timings_.frames_computed > 0) {
-    std::vector<FeatureCacheEntry> entries(n);
-    for (int i = 0; i < n; ++i) entries[i] = {keys_[i], set_.frames[i]};
-    WriteFeatureCache(run_.cache_file, context_, entries);
+  if (writer_) {
+    writer_->Commit();
+    writer_.reset();
   }
   timings_.decode = decode_ns * 1e-9;
   timings_.extract = extract_ns_ * 1e-9;
@@ -271,6 +422,23 @@ FeatureSet FeatureExtraction::Finish(FeatureTimings* timings) {
   timings_.wall = setup_s_ + finish.Seconds();
   if (timings) *timings = timings_;
   return std::move(set_);
+}
+
+nlohmann::json FeatureExtraction::Statistics() const {
+  const int n = static_cast<int>(seq_.frames.size());
+  const double frames = std::max(1, n);
+  nlohmann::json per_frame = {{"proxies", tally_[kFeatureTypeCount] / frames}};
+  nlohmann::json totals = {{"proxies", tally_[kFeatureTypeCount].load()}};
+  long features = 0;
+  for (int t = 0; t < kFeatureTypeCount; ++t) {
+    per_frame[FeatureTypeName(static_cast<FeatureType>(t))] = tally_[t] / frames;
+    totals[FeatureTypeName(static_cast<FeatureType>(t))] = tally_[t].load();
+    features += tally_[t];
+  }
+  per_frame["features"] = features / frames;
+  totals["features"] = features;
+  const long notes = std::count_if(notes_.begin(), notes_.end(), [](const std::string& s) { return !s.empty(); });
+  return {{"frames", n}, {"frames_with_note", notes}, {"per_frame", per_frame}, {"totals", totals}};
 }
 
 FeatureSet ExtractFeatures(const RgbdSequence& seq, const FeatureOptions& options, const FeatureRun& run,

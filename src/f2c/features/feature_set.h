@@ -15,6 +15,9 @@
 // recompute exactly the frames they change.
 
 #include <atomic>
+#include <functional>
+#include <memory>
+#include <mutex>
 #include <filesystem>
 #include <nlohmann/json_fwd.hpp>
 #include <vector>
@@ -32,6 +35,11 @@ struct FeatureSet {
 struct FeatureRun {
   std::filesystem::path cache_file;  // empty: no cache
   bool quiet = false;                // no progress bar
+  // When set, each frame's features (from the cache or computed) are handed here, from any
+  // thread, once per frame, and not kept: Finish() then returns a set of empty frames, and
+  // memory stays bounded by what the receiver keeps (the refinement keeps a compact index).
+  // The cache is streamed to disk as frames arrive instead of being built in memory.
+  std::function<void(int frame, FrameFeatures&& features)> on_frame;
 };
 
 struct FeatureTimings {
@@ -56,14 +64,19 @@ FeatureSet ExtractFeatures(const RgbdSequence& sequence, const FeatureOptions& o
 //                                                          // writes the cache
 class FeatureExtraction {
  public:
+  ~FeatureExtraction();
   FeatureExtraction(const RgbdSequence& sequence, const FeatureOptions& options, const FeatureRun& run);
   // Extracts frame `frame` from its decoded depth unless it is cached or done already.
   void Compute(int frame, const cv::Mat& depth);
   FeatureSet Finish(FeatureTimings* timings = nullptr);
+  // Per-type totals and per-frame means (as FeatureStatistics), also when streaming.
+  nlohmann::json Statistics() const;
 
  private:
   enum State : char { kMissing, kCached, kComputed };
   void ReadCache();  // frame keys, and the frames the cache holds
+  void Deliver(int frame, FrameFeatures&& features);  // tally, cache, sink or keep
+  class CacheWriter;
   const RgbdSequence& seq_;
   FeatureOptions options_;
   FeatureRun run_;
@@ -73,6 +86,10 @@ class FeatureExtraction {
   uint64_t context_ = 0;
   FeatureTimings timings_;
   std::atomic<int64_t> extract_ns_{0};
+  std::unique_ptr<CacheWriter> writer_;      // the new cache, streamed (when frames are missing)
+  std::vector<std::string> notes_;           // per frame
+  std::vector<char> empty_;                  // per frame: no features at all
+  std::atomic<long> tally_[kFeatureTypeCount + 1] = {};  // per type, then proxies
   Timer wall_;
   double setup_s_ = 0;
 };

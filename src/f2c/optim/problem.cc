@@ -27,6 +27,7 @@ void SolverOptions::Check() const {
   if (!(rotation_lever_arm > 0)) ThrowInputError("--rotation-lever-arm", "must be positive");
   if (!(loss_scale > 0)) ThrowInputError("--loss-scale", "must be positive");
   if (max_iterations < 1) ThrowInputError("--solver-iterations", "must be >= 1");
+  if (max_linear_iterations < 1) ThrowInputError("--linear-iterations", "must be >= 1");
   if (!(function_tolerance > 0)) ThrowInputError("solver.function_tolerance", "must be positive");
   if (threads < 0) ThrowInputError("--solver-threads", "must be >= 0");
 }
@@ -205,8 +206,14 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   summary.residual_blocks = pp.Counts();
   summary.cost_before = pp.TermCosts();
   ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  solver.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  if (options.iterative) {
+    solver.linear_solver_type = ceres::CGNR;
+    solver.preconditioner_type = ceres::JACOBI;
+    solver.max_linear_solver_iterations = options.max_linear_iterations;
+  } else {
+    solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    solver.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  }
   solver.num_threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
   solver.max_num_iterations = options.one_step ? 1 : options.max_iterations;
   solver.function_tolerance = options.function_tolerance;
@@ -221,6 +228,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   summary.iterations = static_cast<int>(ceres_summary.iterations.size()) - 1;
   summary.termination = ceres::TerminationTypeToString(ceres_summary.termination_type);
   summary.usable = ceres_summary.IsSolutionUsable();
+  for (const ceres::IterationSummary& it : ceres_summary.iterations) summary.linear_iterations += it.linear_solver_iterations;
   if (!summary.usable) *poses = previous;  // a failed solve leaves the poses as they were
   for (Pose& p : *poses) p.rotation.normalize();
   summary.seconds = timer.Seconds();
@@ -240,12 +248,15 @@ nlohmann::json ToJson(const SolverOptions& o) {
           {"max_iterations", o.max_iterations},
           {"one_step", o.one_step},
           {"function_tolerance", o.function_tolerance},
+          {"linear_solver", o.iterative ? "cgnr" : "sparse_cholesky"},
+          {"max_linear_iterations", o.max_linear_iterations},
           {"threads", o.threads}};
 }
 
 nlohmann::json ToJson(const SolveSummary& s) {
   return {{"cost_before", s.cost_before}, {"cost_after", s.cost_after}, {"residual_blocks", s.residual_blocks},
-          {"ceres_iterations", s.iterations}, {"termination", s.termination}, {"usable", s.usable},
+          {"ceres_iterations", s.iterations}, {"linear_iterations", s.linear_iterations},
+          {"termination", s.termination}, {"usable", s.usable},
           {"seconds", s.seconds}};
 }
 

@@ -47,6 +47,11 @@ struct SolverOptions {
   int max_iterations = 50;
   bool one_step = true;
   double function_tolerance = 1e-6;
+  // The linear solver: sparse Cholesky (SuiteSparse), exact; or conjugate gradients on the
+  // normal equations with a block-Jacobi preconditioner, whose memory grows with the
+  // constraints only (a Cholesky factor fills in as loops tie distant frames together).
+  bool iterative = false;
+  int max_linear_iterations = 100;
   // Ceres' threads; 0: as many as the thread pool allows (register --threads). The one-step
   // solve gave byte-identical poses for 1 and 2 threads (tested).
   int threads = 0;
@@ -61,6 +66,7 @@ struct SolveSummary {
   int iterations = 0;          // Ceres iterations
   std::string termination;     // Ceres' termination type
   bool usable = false;
+  int linear_iterations = 0;  // conjugate-gradient iterations, summed (iterative solver)
   double seconds = 0;
 };
 
