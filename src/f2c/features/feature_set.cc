@@ -183,8 +183,10 @@ std::vector<FeatureCacheEntry> ReadFeatureCache(const std::filesystem::path& pat
   return entries;
 }
 
-// The new cache, streamed: header first (its count patched at the end), then each frame's
-// entry as it arrives, in any order (readers match entries by key); renamed into place when
+// The new cache, streamed: header first (its count patched at the end), then the frames'
+// entries in frame order, so the file is the same whatever the threads did. Frames arrive
+// nearly in order (the odometry's chunks, the extraction's parallel loop); the few that come
+// early wait, serialised, until their predecessors are written. Renamed into place when
 // complete, removed if the run ends early.
 class FeatureExtraction::CacheWriter {
  public:
@@ -206,15 +208,19 @@ class FeatureExtraction::CacheWriter {
       std::filesystem::remove(tmp_);
     }
   }
-  void Append(uint64_t key, const FrameFeatures& f) {
+  void Append(int frame, uint64_t key, const FrameFeatures& f) {
     Writer w;
     w.Put(key);
     PutFrame(w, f);
     std::lock_guard<std::mutex> lock(mutex_);
-    Write(w.bytes());
-    ++count_;
+    waiting_[frame] = w.bytes();
+    for (auto it = waiting_.begin(); it != waiting_.end() && it->first == next_; it = waiting_.erase(it), ++next_) {
+      Write(it->second);
+      ++count_;
+    }
   }
   void Commit() {
+    F2C_CHECK(waiting_.empty(), "every frame's features reached the cache");
     std::fseek(file_, sizeof(kMagic) + 4 + 8, SEEK_SET);
     const uint32_t count = count_;
     std::fwrite(&count, sizeof(count), 1, file_);
@@ -236,6 +242,8 @@ class FeatureExtraction::CacheWriter {
   std::string tmp_;
   std::FILE* file_ = nullptr;
   std::mutex mutex_;
+  std::map<int, std::string> waiting_;  // entries of frames that came before their turn
+  int next_ = 0;
   uint32_t count_ = 0;
 };
 
@@ -288,7 +296,7 @@ void FeatureExtraction::Deliver(int frame, FrameFeatures&& f) {
   tally_[kFeatureTypeCount] += static_cast<long>(f.proxies.size());
   notes_[frame] = f.note;
   empty_[frame] = f.features.empty();
-  if (writer_) writer_->Append(keys_[frame], f);
+  if (writer_) writer_->Append(frame, keys_[frame], f);
   if (run_.on_frame) {
     run_.on_frame(frame, std::move(f));
   } else {

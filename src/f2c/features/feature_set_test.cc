@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <nlohmann/json.hpp>
+
 #include <Eigen/Geometry>
 #include <fstream>
 
@@ -145,6 +148,46 @@ TEST(ExtractFeatures, ACorruptCacheIsRecomputedAndAMissingIntrinsicIsAnError) {
   EXPECT_EQ(testing::InputErrorMessage([&] { ExtractFeatures(no_k, FeatureOptions(), FeatureRun()); }),
             (dir / "scan").string() +
                 ": no intrinsics: pass --intrinsics (a preset: tum-fr1, tum-fr2, tum-fr3, primesense; or fx,fy,cx,cy)");
+}
+
+// Streaming: each frame reaches the receiver once, nothing is kept, and the cache written on
+// the way (cached frames included) has the same bytes as one written from the whole set.
+TEST(ExtractFeatures, StreamedFramesReachTheReceiverOnceAndTheCacheIsTheSame) {
+  const fs::path dir = testing::FreshTempDir("feature_set_stream");
+  const RgbdSequence seq = WriteSequence(dir / "scan", 5);
+  FeatureRun whole;
+  whole.quiet = true;
+  whole.cache_file = dir / "whole.f2cf";
+  const FeatureSet reference = ExtractFeatures(seq, FeatureOptions(), whole);
+
+  FeatureRun streamed = whole;
+  streamed.cache_file = dir / "streamed.f2cf";
+  std::vector<FrameFeatures> received(5);
+  std::atomic<int> calls{0};
+  streamed.on_frame = [&](int frame, FrameFeatures&& f) {
+    received[frame] = std::move(f);
+    ++calls;
+  };
+  {
+    // Two frames cached already: they are streamed from the cache, the rest computed.
+    IoOptions io;
+    io.intrinsics = "525,525,319.5,239.5";
+    io.last = 1;
+    FeatureRun prefix = whole;
+    prefix.cache_file = streamed.cache_file;
+    ExtractFeatures(ReadSequence(dir / "scan", io), FeatureOptions(), prefix);
+  }
+  FeatureExtraction extraction(seq, FeatureOptions(), streamed);
+  FeatureTimings t;
+  const FeatureSet left = extraction.Finish(&t);
+  EXPECT_EQ(t.frames_cached, 2);
+  EXPECT_EQ(calls.load(), 5);
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_TRUE(left.frames[i].features.empty());
+    ExpectSameFeatures(received[i], reference.frames[i]);
+  }
+  EXPECT_EQ(extraction.Statistics(), FeatureStatistics(reference));
+  EXPECT_EQ(ReadFileToString(streamed.cache_file), ReadFileToString(whole.cache_file));
 }
 
 }  // namespace
