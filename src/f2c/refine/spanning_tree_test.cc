@@ -1,0 +1,53 @@
+#include "f2c/refine/spanning_tree.h"
+
+#include <gtest/gtest.h>
+
+namespace f2c {
+namespace {
+
+Rigid3d Step(double yaw_deg, double x) {
+  Rigid3d t = Rigid3d::Identity();
+  t.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  t.translation() = Eigen::Vector3d(x, 0, 0);
+  return t;
+}
+
+PoseVector Chain(const std::vector<Rigid3d>& steps) {
+  PoseVector poses(1);
+  for (const Rigid3d& s : steps) poses.push_back(Pose::FromRigid(poses.back().ToRigid() * s));
+  return poses;
+}
+
+double Distance(const Pose& a, const Pose& b) {
+  return (a.translation - b.translation).norm() + a.rotation.angularDistance(b.rotation);
+}
+
+TEST(SpanningTreePoses, WithoutLoopsNothingMoves) {
+  const PoseVector poses = Chain({Step(5, 0.1), Step(-3, 0.2), Step(1, 0.1)});
+  const PoseVector out = SpanningTreePoses(poses, {1.0, 0.3, 1.0}, {});
+  for (size_t k = 0; k < poses.size(); ++k) EXPECT_LT(Distance(out[k], poses[k]), 1e-12);
+}
+
+// Frames 0-1-2-3-4, the true steps 10 cm straight ahead; the odometry got link 2-3 wrong by
+// 40 degrees. A loop 1 -> 4 (weighted 0.95, the link 0.3) re-places 3 and 4 by the loop:
+// both land on the truth, and frames before the loop stay.
+TEST(SpanningTreePoses, AWeakLinkOnALoopGivesWay) {
+  const PoseVector truth = Chain({Step(0, 0.1), Step(0, 0.1), Step(0, 0.1), Step(0, 0.1)});
+  const PoseVector odometry = Chain({Step(0, 0.1), Step(0, 0.1), Step(40, 0.1), Step(0, 0.1)});
+  LoopEdge loop;
+  loop.frame_a = 1;
+  loop.frame_b = 4;
+  loop.a_from_b = truth[1].ToRigid().inverse() * truth[4].ToRigid();
+  const PoseVector out = SpanningTreePoses(odometry, {1.0, 1.0, 0.3, 1.0}, {loop});
+  for (int k = 0; k < 5; ++k) {
+    if (k == 3) continue;  // placed from 4 through link 3-4, which keeps its own relative pose
+    EXPECT_LT(Distance(out[k], truth[k]), 1e-9) << k;
+  }
+  EXPECT_LT(Distance(out[3], Pose::FromRigid(out[4].ToRigid() * Step(0, 0.1).inverse())), 1e-9);
+  // With a trusted link (1.0 > 0.95) the loop is left out of the tree.
+  const PoseVector kept = SpanningTreePoses(odometry, {1.0, 1.0, 1.0, 1.0}, {loop});
+  for (int k = 0; k < 5; ++k) EXPECT_LT(Distance(kept[k], odometry[k]), 1e-9) << k;
+}
+
+}  // namespace
+}  // namespace f2c
