@@ -213,7 +213,8 @@ int RunRegister(const RegisterArgs& args) {
   WriteFileAtomic(out / "run.json", report.dump(2) + "\n");
   std::printf("wrote %s (TUM; %s), trajectory.log, trajectory.conf, trajectory_t0.txt, odometry.json, run.json%s%s\n",
               (out / "trajectory.txt").string().c_str(), index ? "refined" : "T0",
-              args.save_iterations && index ? ", iterations/" : "", features_cached ? ", cache/features.f2cf" : "");
+              args.save_iterations && index ? ", iterations/" : "",
+              features_cached ? (keyframe_store ? ", cache/features.f2cf, cache/keyframes.f2ck" : ", cache/features.f2cf") : "");
   std::printf("%zu frames in %.1f s (%.1f frames/s)\n", seq.frames.size(), total.Seconds(),
               seq.frames.size() / total.Seconds());
   return 0;

@@ -48,8 +48,12 @@ int RunDemo(const DemoArgs& args) {
   reg.output = (root / "registration").string();
   RunRegister(reg);
   EvaluateArgs eval;
-  eval.estimate = (fs::path(reg.output) / "trajectory.txt").string();
   eval.ground_truth = sim_args.output;
+  std::printf("\nT0, the odometry alone:\n");
+  eval.estimate = (fs::path(reg.output) / "trajectory_t0.txt").string();
+  RunEvaluate(eval);
+  std::printf("\nrefined fine-to-coarse:\n");
+  eval.estimate = (fs::path(reg.output) / "trajectory.txt").string();
   RunEvaluate(eval);
   std::printf("\nscan (TUM layout, ground truth): %s\nposes (TUM, .log, .conf), run.json: %s\n"
               "demo took %.1f s\n",
