@@ -39,6 +39,8 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
   add(p, "--min-overlap", &o->pairs.min_overlap, "pairs: share of one frame's points the other camera sees");
   add(p, "--max-view-angle", &o->pairs.max_view_angle_deg, "pairs: largest angle between optical axes (deg)");
   add(p, "--pairs-per-octave", &o->pairs.per_octave, "partners per frame and power-of-two frame gap");
+  add(p, "--long-range-stride", &o->pairs.long_range_stride, "pairs far apart join only every N-th frame (1: all)");
+  add(p, "--long-range-gap", &o->pairs.long_range_gap, "...when at least this many frames apart");
   add(p, "--max-distance-initial", &o->correspondences.initial_max_distance, "correspondence distance when a pair first shares a window (m)");
   add(p, "--max-distance-final", &o->correspondences.final_max_distance, "...decreasing linearly to this (m)");
   add(p, "--max-angle-initial", &o->correspondences.initial_max_angle_deg, "normal/direction angle when a pair first shares a window (deg)");

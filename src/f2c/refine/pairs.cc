@@ -17,6 +17,8 @@ void PairOptions::Check() const {
   if (!(max_view_angle_deg > 0 && max_view_angle_deg <= 180)) ThrowInputError("--max-view-angle", "must be in (0, 180]");
   if (!(max_depth > 0)) ThrowInputError("pairs.max_depth", "must be positive");
   if (per_octave < 1) ThrowInputError("--pairs-per-octave", "must be >= 1");
+  if (long_range_stride < 1) ThrowInputError("--long-range-stride", "must be >= 1");
+  if (long_range_gap < 1) ThrowInputError("--long-range-gap", "must be >= 1");
 }
 
 float CoverageSeen(const FrameIndex& a, const Eigen::Isometry3f& b_from_a, const CameraIntrinsics& k,
@@ -73,6 +75,8 @@ std::vector<FramePair> CandidatePairs(const WindowSchedule& schedule, int iterat
     const int end = schedule.ShareEnd(iteration, a);
     std::vector<FramePair> tested;
     for (int64_t lo = 1; a + lo < end; lo *= 2) {
+      const bool long_range = lo >= options.long_range_gap && options.long_range_stride > 1;
+      if (long_range && a % options.long_range_stride != 0) break;
       const int gap_begin = a + static_cast<int>(lo);
       const int gap_end = static_cast<int>(std::min<int64_t>(a + 2 * lo, end));
       tested.clear();
@@ -87,7 +91,19 @@ std::vector<FramePair> CandidatePairs(const WindowSchedule& schedule, int iterat
             const int64_t count = last - first;
             const int take = static_cast<int>(std::min<int64_t>(count, options.per_octave));
             for (int j = 0; j < take; ++j) {
-              const int b = *(first + (2 * j + 1) * count / (2 * take));  // evenly spread over the gap
+              auto at = first + (2 * j + 1) * count / (2 * take);  // evenly spread over the gap
+              if (long_range) {
+                // The nearest anchor frame of the cell at or after it (else before it).
+                auto anchor = at;
+                while (anchor != last && *anchor % options.long_range_stride != 0) ++anchor;
+                if (anchor == last) {
+                  anchor = at;
+                  while (anchor != first && *anchor % options.long_range_stride != 0) --anchor;
+                  if (*anchor % options.long_range_stride != 0) continue;
+                }
+                at = anchor;
+              }
+              const int b = *at;
               const Eigen::Vector3f axis_a = world_from_camera[a].linear().col(2);
               const Eigen::Vector3f axis_b = world_from_camera[b].linear().col(2);
               if (axis_a.dot(axis_b) < min_axis_cos) continue;
@@ -117,7 +133,9 @@ nlohmann::json ToJson(const PairOptions& o) {
           {"min_overlap", o.min_overlap},
           {"max_view_angle_deg", o.max_view_angle_deg},
           {"max_depth", o.max_depth},
-          {"per_octave", o.per_octave}};
+          {"per_octave", o.per_octave},
+          {"long_range_stride", o.long_range_stride},
+          {"long_range_gap", o.long_range_gap}};
 }
 
 }  // namespace f2c

@@ -30,6 +30,11 @@ struct PairOptions {
   double max_view_angle_deg = 90;  // between optical axes
   double max_depth = 5.0;          // metres: beyond it a camera is taken not to see a point
   int per_octave = 2;
+  // Pairs at least long_range_gap frames apart join only frames whose index is a multiple of
+  // long_range_stride (1: all frames): the long-range links that close loops then tie fewer
+  // poses together, and the Cholesky factor fills in less on long scans.
+  int long_range_stride = 1;
+  int long_range_gap = 32;
 
   void Check() const;
 };
