@@ -87,37 +87,4 @@ PosePair::PosePair(double const* const* parameters)
     : q_a(parameters[0]), t_a(parameters[1]), q_b(parameters[2]), t_b(parameters[3]),
       m_a(RotationPolynomial(parameters[0])), m_b(RotationPolynomial(parameters[2])) {}
 
-namespace {
-
-bool EvaluateSingle(ConstraintKind kind, const Eigen::Vector3d& target_point, const Eigen::Vector3d& target_direction,
-                    const Eigen::Vector3d& point, double const* const* parameters, double* residuals,
-                    double** jacobians) {
-  ConstraintRows rows;
-  EvaluateConstraint(kind, PosePair(parameters), target_point, target_direction, point, jacobians != nullptr, &rows);
-  for (int i = 0; i < rows.rows; ++i) residuals[i] = rows.residual[i];
-  if (jacobians == nullptr) return true;
-  const int offsets[4] = {0, 4, 7, 11}, sizes[4] = {4, 3, 4, 3};
-  for (int b = 0; b < 4; ++b) {
-    if (jacobians[b] == nullptr) continue;
-    for (int i = 0; i < rows.rows; ++i) {
-      for (int k = 0; k < sizes[b]; ++k) jacobians[b][i * sizes[b] + k] = rows.jacobian(i, offsets[b] + k);
-    }
-  }
-  return true;
-}
-
-}  // namespace
-
-bool AnalyticPointToPlaneCost::Evaluate(double const* const* parameters, double* residuals,
-                                        double** jacobians) const {
-  return EvaluateSingle(ConstraintKind::kPointToPlane, point_in_a_, normal_in_a_, point_in_b_, parameters, residuals,
-                        jacobians);
-}
-
-bool AnalyticPointToLineCost::Evaluate(double const* const* parameters, double* residuals,
-                                       double** jacobians) const {
-  return EvaluateSingle(ConstraintKind::kPointToLine, point_in_a_, direction_in_a_, point_in_b_, parameters, residuals,
-                        jacobians);
-}
-
 }  // namespace f2c

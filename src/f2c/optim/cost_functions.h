@@ -195,8 +195,13 @@ struct PoseChangeCost {
 
 namespace f2c {
 
-// The residual kernels of E_C and E_M with hand-written Jacobians, shared by the analytic cost
-// functions below and the batched pair blocks (optim/pair_cost.h).
+// The residual kernels of E_C and E_M with hand-written Jacobians (by the ambient coordinates,
+// like AutoDiff; Ceres applies the quaternion manifold), used by the batched pair blocks
+// (optim/pair_cost.h). They are about 10x faster than the AutoDiff functors above, which stay
+// as their specification: tests check that values and Jacobians agree exactly. With
+// Rot(q, v) = v + 2 w (u x v) + 2 u x (u x v), q = (u, w):
+//   dRot/dw = 2 (u x v)      dRot/du = -2 w [v]x + 2 ((u . v) I + u v^T - 2 v u^T)
+// exact for any q, as AutoDiff differentiates the same polynomial.
 enum class ConstraintKind : uint8_t { kPointToPlane, kPointToLine, kPointToPoint };
 
 // The two poses of a constraint, with M(q) = the rotation polynomial Eigen evaluates for q * v.
@@ -223,34 +228,5 @@ void EvaluateConstraint(ConstraintKind kind, const PosePair& poses, const Eigen:
 Eigen::Matrix3d RotationPolynomial(const double* q);
 Eigen::Matrix<double, 3, 4, Eigen::RowMajor> RotationDerivative(const double* q, const Eigen::Vector3d& v);
 Eigen::Matrix3d Skew(const Eigen::Vector3d& v);
-
-// The same E_C residuals with hand-written Jacobians (per the ambient coordinates, like
-// AutoDiff; Ceres applies the quaternion manifold). They are evaluated about 10x faster than
-// the AutoDiff functors above, which stay as their specification: tests check that values and
-// Jacobians agree. With R(q) v = v + 2 w (u x v) + 2 u x (u x v), q = (u, w):
-//   d(R v)/dw = 2 (u x v)
-//   d(R v)/du = -2 w [v]x + 2 ((u . v) I + u v^T - 2 v u^T)
-// exact for any q, as AutoDiff differentiates the same polynomial.
-class AnalyticPointToPlaneCost final : public ceres::SizedCostFunction<1, 4, 3, 4, 3> {
- public:
-  AnalyticPointToPlaneCost(const Eigen::Vector3d& point_in_a, const Eigen::Vector3d& normal_in_a,
-                           const Eigen::Vector3d& point_in_b)
-      : point_in_a_(point_in_a), normal_in_a_(normal_in_a), point_in_b_(point_in_b) {}
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
-
- private:
-  Eigen::Vector3d point_in_a_, normal_in_a_, point_in_b_;
-};
-
-class AnalyticPointToLineCost final : public ceres::SizedCostFunction<3, 4, 3, 4, 3> {
- public:
-  AnalyticPointToLineCost(const Eigen::Vector3d& point_in_a, const Eigen::Vector3d& direction_in_a,
-                          const Eigen::Vector3d& point_in_b)
-      : point_in_a_(point_in_a), direction_in_a_(direction_in_a), point_in_b_(point_in_b) {}
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
-
- private:
-  Eigen::Vector3d point_in_a_, direction_in_a_, point_in_b_;
-};
 
 }  // namespace f2c

@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "f2c/optim/pair_cost.h"
 #include "f2c/optim/pose.h"
 
 namespace f2c {
@@ -182,8 +183,9 @@ TEST_F(CostFunctions, PoseChangeVanishesAtThePreviousPoseAndMeasuresTheChange) {
   ExpectJacobiansMatch(*cost, blocks, {&quaternion, nullptr});
 }
 
-// The analytic E_C costs compute the AutoDiff functors' residuals and Jacobians exactly, at
-// unit and non-unit quaternions alike, and pass the same central-difference checks.
+// The hand-written E_C kernels (EvaluateConstraint, here through a one-constraint PairCost with
+// no loss) compute the AutoDiff functors' residuals and Jacobians exactly, at unit and
+// non-unit quaternions alike, and pass the same central-difference checks.
 TEST_F(CostFunctions, AnalyticCostsEqualTheirAutoDiffFunctors) {
   std::mt19937 rng(11);
   std::normal_distribution<double> g(0, 1);
@@ -196,8 +198,12 @@ TEST_F(CostFunctions, AnalyticCostsEqualTheirAutoDiffFunctors) {
     for (int line = 0; line < 2; ++line) {
       std::unique_ptr<ceres::CostFunction> reference(line ? PointToLineCost::Create(p_a, dir, p_b)
                                                           : PointToPlaneCost::Create(p_a, dir, p_b));
-      std::unique_ptr<ceres::CostFunction> analytic(line ? static_cast<ceres::CostFunction*>(new AnalyticPointToLineCost(p_a, dir, p_b))
-                                                         : new AnalyticPointToPlaneCost(p_a, dir, p_b));
+      PairConstraint c;
+      c.kind = line ? ConstraintKind::kPointToLine : ConstraintKind::kPointToPlane;
+      c.target_point = p_a;
+      c.target_direction = dir;
+      c.point = p_b;
+      std::unique_ptr<ceres::CostFunction> analytic(new PairCost({c}, RobustLoss::kNone, 1.0, Blocks().data()));
       const int m = reference->num_residuals();
       ASSERT_EQ(analytic->num_residuals(), m);
       std::vector<double> r1(m), r2(m), j1(m * 14), j2(m * 14);
