@@ -166,12 +166,17 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   for (const RelativePoseConstraint& l : local) {
     if (options.weight_local == 0 || sum_l <= 0) break;
     F2C_CHECK(l.frame_a >= 0 && l.frame_a < n && l.frame_b >= 0 && l.frame_b < n, "local frames in range");
-    const double s = std::sqrt(options.weight_local * l.weight / sum_l);
-    pp.Add(kTermL,
-           RelativePoseCost::Create(l.rotation_a_from_b, l.translation_a_from_b, 1.0, options.rotation_lever_arm),
-           pp.Loss(options.local_loss_scale > 0 ? RobustLoss::kCauchy : RobustLoss::kNone,
-                   options.local_loss_scale > 0 ? options.local_loss_scale : 1.0, s * s, kTermL),
-           blocks(l.frame_a, l.frame_b));
+    const double w = options.weight_local * l.weight / sum_l;
+    if (options.local_loss_scale > 0) {
+      // The weight after the loss, so its scale stays in metres.
+      pp.Add(kTermL, RelativePoseCost::Create(l.rotation_a_from_b, l.translation_a_from_b, 1.0, options.rotation_lever_arm),
+             pp.Loss(RobustLoss::kCauchy, options.local_loss_scale, w, kTermL), blocks(l.frame_a, l.frame_b));
+    } else {
+      const double s = std::sqrt(w);
+      pp.Add(kTermL,
+             RelativePoseCost::Create(l.rotation_a_from_b, l.translation_a_from_b, s, s * options.rotation_lever_arm),
+             nullptr, blocks(l.frame_a, l.frame_b));
+    }
   }
 
   // E_M: SIFT matches, w_M / n each, robustified, batched per frame pair.

@@ -21,11 +21,11 @@ ThresholdSchedule ThresholdScheduleFromName(const std::string& name) {
 
 void CorrespondenceOptions::Check() const {
   if (!(final_max_distance > 0 && initial_max_distance >= final_max_distance)) {
-    ThrowInputError("--max-distance", fmt::format("need 0 < final <= initial, got {} and {}", final_max_distance,
+    ThrowInputError("--max-distance-final", fmt::format("need 0 < final <= --max-distance-initial, got {} and {}", final_max_distance,
                                                   initial_max_distance));
   }
   if (!(final_max_angle_deg > 0 && initial_max_angle_deg >= final_max_angle_deg && initial_max_angle_deg <= 180)) {
-    ThrowInputError("--max-angle", fmt::format("need 0 < final <= initial <= 180, got {} and {}",
+    ThrowInputError("--max-angle-final", fmt::format("need 0 < final <= --max-angle-initial <= 180, got {} and {}",
                                                final_max_angle_deg, initial_max_angle_deg));
   }
   if (decay_iterations < 0) ThrowInputError("--threshold-decay", "must be >= 0");

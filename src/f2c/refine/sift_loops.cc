@@ -31,8 +31,6 @@ SiftLoopMatcher::SiftLoopMatcher(std::vector<Keyframe> keyframes, std::vector<do
                                  const SiftLoopOptions& options)
     : keyframes_(std::move(keyframes)), options_(options) {
   options.Check();
-  descriptors_.resize(keyframes_.size());
-  for (size_t i = 0; i < keyframes_.size(); ++i) keyframes_[i].descriptors.convertTo(descriptors_[i], CV_32F);
   weak_prefix_.assign(confidence.size() + 2, 0);
   for (size_t k = 1; k <= confidence.size(); ++k) {
     weak_prefix_[k + 1] = weak_prefix_[k] + (confidence[k - 1] < options.weak_confidence);
@@ -51,8 +49,9 @@ bool SiftLoopMatcher::TryPair(int i, int j, const FeatureIndex& index, const Cam
   const Keyframe& kb = keyframes_[j];
   if (ka.points.size() < 3 || kb.points.size() < 3) return false;
   SiftFeatures a, b;  // the matcher's view of the keyframes
-  a.descriptors = descriptors_[i];
-  b.descriptors = descriptors_[j];
+  // Keyframes keep bytes (a quarter of the memory); the matcher wants floats.
+  ka.descriptors.convertTo(a.descriptors, CV_32F);
+  kb.descriptors.convertTo(b.descriptors, CV_32F);
   a.points_in_camera.resize(ka.points.size());
   b.points_in_camera.resize(kb.points.size());
   const std::vector<SiftMatch> m = MatchSiftRatio(b, a, options_.ratio, options_.ratio, 0);

@@ -95,7 +95,6 @@ class SiftLoopMatcher {
                std::vector<PointMatch>* out, LoopEdge* edge) const;
 
   std::vector<Keyframe> keyframes_;
-  std::vector<cv::Mat> descriptors_;  // CV_32F copies for matching
   std::vector<int> weak_prefix_;      // weak odometry pairs among frames 1..k
   SiftLoopOptions options_;
   std::set<std::pair<int, int>> tried_;
