@@ -60,6 +60,7 @@ struct EvaluateArgs {
   std::string ground_truth;
   bool json = false;
   double max_time_difference = 0.02;
+  double drift_min_seconds = 5.0;
   // Ground-truth correspondences (the authors' format); empty: the dataset folder's
   // correspondences.txt when there is one.
   std::string correspondences;

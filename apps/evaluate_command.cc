@@ -34,7 +34,7 @@ Trajectory LoadGroundTruth(const fs::path& path, std::vector<double>* frame_time
 }
 
 void PrintStatsRow(const char* name, const char* unit, const ErrorStatistics& s) {
-  std::printf("%-22s %-4s %9.4f %9.4f %9.4f %9.4f %9.4f %9.4f %6d\n", name, unit, s.rmse, s.mean,
+  std::printf("%-24s %-4s %9.4f %9.4f %9.4f %9.4f %9.4f %9.4f %6d\n", name, unit, s.rmse, s.mean,
               s.median, s.std, s.min, s.max, s.count);
 }
 
@@ -66,6 +66,7 @@ int RunEvaluate(const EvaluateArgs& args) {
   }
   EvaluationOptions options;
   options.max_time_difference = args.max_time_difference;
+  options.drift_min_seconds = args.drift_min_seconds;
   const EvaluationResult r = Evaluate(est, gt, options);
 
   // The authors' metric on ground-truth correspondences, when there are some.
@@ -90,7 +91,9 @@ int RunEvaluate(const EvaluateArgs& args) {
               {"rpe_per_frame", {{"translation_m", StatsJson(r.rpe_per_frame.translation)},
                                  {"rotation_deg", StatsJson(r.rpe_per_frame.rotation)}}},
               {"rpe_per_second", {{"translation_m", StatsJson(r.rpe_per_second.translation)},
-                                  {"rotation_deg", StatsJson(r.rpe_per_second.rotation)}}}};
+                                  {"rotation_deg", StatsJson(r.rpe_per_second.rotation)}}},
+              {"rotation_drift_deg", StatsJson(r.drift.rotation)},
+              {"rotation_drift_min_seconds", r.drift.min_seconds}};
     if (corr) {
       j["correspondences"] = {{"file", correspondence_file.string()},
                               {"distance_m", StatsJson(corr->distance)},
@@ -101,13 +104,14 @@ int RunEvaluate(const EvaluateArgs& args) {
   }
   std::printf("%s vs %s: %d of %d poses associated\n", args.estimate.c_str(), args.ground_truth.c_str(),
               r.ate.translation.count, r.ate.estimated_poses);
-  std::printf("%-22s %-4s %9s %9s %9s %9s %9s %9s %6s\n", "metric", "unit", "rmse", "mean", "median",
+  std::printf("%-24s %-4s %9s %9s %9s %9s %9s %9s %6s\n", "metric", "unit", "rmse", "mean", "median",
               "std", "min", "max", "n");
   PrintStatsRow("ATE", "m", r.ate.translation);
   PrintStatsRow("RPE/frame translation", "m", r.rpe_per_frame.translation);
   PrintStatsRow("RPE/frame rotation", "deg", r.rpe_per_frame.rotation);
   PrintStatsRow("RPE/s translation", "m", r.rpe_per_second.translation);
   PrintStatsRow("RPE/s rotation", "deg", r.rpe_per_second.rotation);
+  PrintStatsRow(fmt::format("rotation drift >={:g} s", r.drift.min_seconds).c_str(), "deg", r.drift.rotation);
   if (corr) {
     PrintStatsRow("correspondences", "m", corr->distance);
     if (corr->skipped > 0) std::printf("(%d correspondences skipped: a frame without an estimated pose)\n", corr->skipped);
@@ -130,6 +134,10 @@ Subcommand AddEvaluateCommand(CLI::App* app) {
                        "default: the dataset folder's correspondences.txt, if any");
   cmd->add_option("--max-time-difference", args->max_time_difference,
                        "association window (s)")
+      ->capture_default_str();
+  cmd->add_option("--drift-min-seconds", args->drift_min_seconds,
+                  "rotation drift: the relative rotation error over all pose pairs at least this far apart "
+                  "in time (s)")
       ->capture_default_str();
 
   return {cmd, [args] { return RunEvaluate(*args); }};

@@ -16,6 +16,8 @@ void EvaluationOptions::Check() const {
   if (!(max_time_difference > 0)) ThrowInputError("max_time_difference", "must be positive");
   if (!(rpe_delta_seconds > 0)) ThrowInputError("rpe_delta_seconds", "must be positive");
   if (rpe_delta_frames < 1) ThrowInputError("rpe_delta_frames", "must be >= 1");
+  if (!(drift_min_seconds >= 0)) ThrowInputError("--drift-min-seconds", "must be >= 0");
+  if (drift_max_poses < 2) ThrowInputError("drift_max_poses", "must be >= 2");
 }
 
 ErrorStatistics ComputeStatistics(std::vector<double> e) {
@@ -104,10 +106,38 @@ RpeResult ComputeRpe(const Trajectory& estimate, const Trajectory& ground_truth,
   return result;
 }
 
+RotationDrift ComputeRotationDrift(const Trajectory& estimate, const Trajectory& ground_truth,
+                                   const EvaluationOptions& options) {
+  RotationDrift result;
+  result.min_seconds = options.drift_min_seconds;
+  const auto matches =
+      internal::AssociateTimestamps(estimate.timestamps, ground_truth.timestamps, options.max_time_difference);
+  // D_i = Q_i P_i^-1 for evenly spaced associated poses.
+  const size_t m = std::min<size_t>(matches.size(), options.drift_max_poses);
+  std::vector<Eigen::Matrix3d> d(m);
+  std::vector<double> t(m);
+  for (size_t k = 0; k < m; ++k) {
+    const auto& [e, g] = matches[m == matches.size() ? k : k * (matches.size() - 1) / (m - 1)];
+    d[k] = ground_truth.world_from_camera[g].linear() * estimate.world_from_camera[e].linear().transpose();
+    t[k] = estimate.timestamps[e];
+  }
+  result.poses = static_cast<int>(m);
+  std::vector<double> angles;
+  for (size_t i = 0; i < m; ++i) {
+    for (size_t j = i + 1; j < m; ++j) {
+      if (std::abs(t[j] - t[i]) < options.drift_min_seconds) continue;
+      angles.push_back(RotationAngle(d[i].transpose() * d[j]) * 180.0 / M_PI);
+    }
+  }
+  result.rotation = ComputeStatistics(std::move(angles));
+  return result;
+}
+
 EvaluationResult Evaluate(const Trajectory& estimate, const Trajectory& ground_truth,
                           const EvaluationOptions& options) {
   options.Check();
   EvaluationResult result;
+  result.drift = ComputeRotationDrift(estimate, ground_truth, options);
   result.ate = ComputeAte(estimate, ground_truth, options);
   result.rpe_per_frame = ComputeRpe(estimate, ground_truth, options.rpe_delta_frames, false);
   result.rpe_per_second = ComputeRpe(estimate, ground_truth, options.rpe_delta_seconds, true);

@@ -9,6 +9,12 @@
 // stamp_i + delta (seconds) or i + delta (frames); the error of the relative motion is
 // E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j), Q ground truth, P estimate; translational error |trans E|
 // (metres), rotational error angle(E) (degrees).
+//
+// Rotation drift (beyond the TUM tools, issue 9): the RPE's rotational error over every pair
+// of associated poses at least drift_min_seconds apart. With D_i = Q_i P_i^-1 (rotations
+// only), the pair's error is angle(D_i^-1 D_j): how far a wall seen from frame i and the same
+// wall seen from frame j are from parallel after registration, whatever lies between them.
+// Its worst value is what a straight multi-room scan needs small.
 
 #include <vector>
 
@@ -26,6 +32,10 @@ struct EvaluationOptions {
   double max_time_difference = 0.02;  // seconds, for ATE association (TUM default)
   double rpe_delta_seconds = 1.0;     // RPE per second
   int rpe_delta_frames = 1;           // RPE per frame
+  double drift_min_seconds = 5.0;     // rotation drift: pairs at least this far apart in time
+  // Rotation drift over all pairs of at most this many poses, evenly spaced (every pose when
+  // there are fewer): the pairs grow as the square of the poses.
+  int drift_max_poses = 2000;
   void Check() const;
 };
 
@@ -41,10 +51,17 @@ struct RpeResult {
   ErrorStatistics rotation;     // degrees
 };
 
+struct RotationDrift {
+  ErrorStatistics rotation;  // degrees, over pose pairs
+  int poses = 0;             // poses the pairs were drawn from
+  double min_seconds = 0;
+};
+
 struct EvaluationResult {
   AteResult ate;
   RpeResult rpe_per_frame;
   RpeResult rpe_per_second;
+  RotationDrift drift;
 };
 
 // InputError (naming "estimate") when fewer than 3 poses associate.
@@ -54,6 +71,10 @@ AteResult ComputeAte(const Trajectory& estimate, const Trajectory& ground_truth,
 // `delta` in seconds if `in_seconds`, else in frames of the estimate.
 RpeResult ComputeRpe(const Trajectory& estimate, const Trajectory& ground_truth, double delta,
                      bool in_seconds);
+
+// Pairs counted: 0 when no two associated poses are min_seconds apart.
+RotationDrift ComputeRotationDrift(const Trajectory& estimate, const Trajectory& ground_truth,
+                                   const EvaluationOptions& options = {});
 
 EvaluationResult Evaluate(const Trajectory& estimate, const Trajectory& ground_truth,
                           const EvaluationOptions& options = {});

@@ -113,5 +113,45 @@ TEST(Evaluate, PerfectEstimateHasZeroError) {
   EXPECT_GT(r.rpe_per_second.translation.count, 0);
 }
 
+// Ground truth turns about z at 3 deg/s; the estimate turns 0.1 deg/s more (drift) and is
+// moved rigidly, which must not matter. Poses at t = 0..10 s: pairs >= 5 s apart have
+// |i - j| = 5..10, 6 + 5 + 4 + 3 + 2 + 1 = 21 of them, with errors 0.1 |i - j| deg.
+TEST(ComputeRotationDrift, HandComputedAndInvariantToARigidMotionOfTheEstimate) {
+  Trajectory gt, est;
+  const Rigid3d motion = At(1, 2, 3, 0.7);
+  for (int i = 0; i <= 10; ++i) {
+    gt.Add(i, At(i * 0.3, 0, 0, i * 3.0 * M_PI / 180));
+    est.Add(i, motion * At(i * 0.3, 0.01 * i, 0, i * 3.1 * M_PI / 180));
+  }
+  const RotationDrift d = ComputeRotationDrift(est, gt);
+  ASSERT_EQ(d.rotation.count, 21);
+  EXPECT_EQ(d.poses, 11);
+  double sum2 = 0;
+  for (int k = 5; k <= 10; ++k) sum2 += (11 - k) * std::pow(0.1 * k, 2);
+  EXPECT_NEAR(d.rotation.max, 1.0, 1e-9);
+  EXPECT_NEAR(d.rotation.min, 0.5, 1e-9);
+  EXPECT_NEAR(d.rotation.rmse, std::sqrt(sum2 / 21), 1e-9);
+}
+
+TEST(ComputeRotationDrift, OnlyPairsFarEnoughApartCountAndPosesAreSubsampledEvenly) {
+  Trajectory gt, est;
+  for (int i = 0; i < 100; ++i) {
+    gt.Add(i * 0.1, At(0, 0, 0));
+    est.Add(i * 0.1, At(0, 0, 0, i < 50 ? 0 : 2 * M_PI / 180));  // a 2 deg jump after 5 s
+  }
+  EvaluationOptions options;
+  options.drift_min_seconds = 20;  // longer than the scan: no pairs
+  EXPECT_EQ(ComputeRotationDrift(est, gt, options).rotation.count, 0);
+  options.drift_min_seconds = 5;
+  options.drift_max_poses = 10;  // poses 0, 11, 22, ..., 99 (t = 0, 1.1, ..., 9.9 s)
+  const RotationDrift d = ComputeRotationDrift(est, gt, options);
+  EXPECT_EQ(d.poses, 10);
+  // Pairs at least 5 s apart: (0,5..9) (1,6..9) (2,7..9) (3,8..9) (4,9): 15; of them, those
+  // across the jump (first before 5 s, second after) err by 2 deg, all of them here.
+  EXPECT_EQ(d.rotation.count, 15);
+  EXPECT_NEAR(d.rotation.max, 2, 1e-9);
+  EXPECT_NEAR(d.rotation.min, 2, 1e-9);
+}
+
 }  // namespace
 }  // namespace f2c
