@@ -44,11 +44,58 @@ struct PointMatch {
   Eigen::Vector3f point_b = Eigen::Vector3f::Zero();
 };
 
+// The planar structural model (paper §4.2-4.3, E_S = w_P E_P + w_H E_H + w_G E_G).
+// A child is a per-image proxy: a plane variable tied to its frame's supporting features
+// (E_P), given by the plane the image fit and the moments of its members, in its camera's
+// coordinates. A parent is a plane variable of its own, initialised in world coordinates
+// from the coplanar children it clusters; links tie children to parents (E_H) and relations
+// tie parents to each other (E_G).
+struct ChildProxy {
+  int32_t frame = 0;
+  Eigen::Vector3f normal = Eigen::Vector3f::UnitZ();  // camera coordinates, unit
+  float offset = 0;                                   // plane {x : normal . x = offset}
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+  Eigen::Matrix3f covariance = Eigen::Matrix3f::Zero();  // of the members (m^2)
+  float share = 1;  // relative weight within E_P: the proxy's m_j (its inliers)
+};
+
+struct PlaneEstimate {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // world coordinates, unit
+  double offset = 0;
+};
+
+struct CoplanarLink {
+  int32_t child = 0;
+  int32_t parent = 0;
+  Eigen::Vector3d anchor = Eigen::Vector3d::Zero();  // the child's centroid, world, when clustered
+  float weight = 1;                                  // relative weight within E_H
+};
+
+enum class RelationType : uint8_t { kParallel = 0, kAntiparallel, kOrthogonal };
+constexpr int kRelationTypeCount = 3;
+const char* RelationTypeName(RelationType type);
+
+struct PlaneRelation {
+  int32_t parent_a = 0;
+  int32_t parent_b = 0;
+  RelationType type = RelationType::kParallel;
+  float weight = 1;  // w_ab = exp(-(theta - theta_0)^2 / (2 sigma^2)), relative within E_G
+};
+
+struct StructureConstraints {
+  std::vector<ChildProxy> children;
+  std::vector<PlaneEstimate> parents;
+  std::vector<CoplanarLink> links;       // E_H
+  std::vector<PlaneRelation> relations;  // E_G
+  bool empty() const { return children.empty(); }
+};
+
 // Everything one iteration's energy is built from.
 struct Constraints {
   std::vector<FeatureCorrespondence> correspondences;  // E_C
   std::vector<RelativePoseConstraint> local;           // E_L
   std::vector<PointMatch> matches;                     // E_M
+  StructureConstraints structure;                      // E_P, E_H, E_G
 };
 
 }  // namespace f2c

@@ -1,6 +1,7 @@
 #include "f2c/optim/problem.h"
 
 #include <ceres/ceres.h>
+#include <ceres/sphere_manifold.h>
 #include <fmt/format.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <tbb/task_arena.h>
 
 #include "f2c/optim/cost_functions.h"
+#include "f2c/optim/structure_costs.h"
 #include "f2c/util/error.h"
 #include "f2c/util/timer.h"
 
@@ -22,6 +24,9 @@ void SolverOptions::Check() const {
   non_negative(weight_local, "--weight-local");
   non_negative(weight_inertia, "--weight-inertia");
   non_negative(weight_match, "--weight-match");
+  non_negative(weight_proxy, "--weight-proxy");
+  non_negative(weight_coplanarity, "--weight-coplanarity");
+  non_negative(weight_relation, "--weight-relation");
   if (!(match_loss_scale > 0)) ThrowInputError("--match-loss-scale", "must be positive");
   if (!(local_loss_scale >= 0)) ThrowInputError("--local-loss-scale", "must be >= 0");
   if (!(rotation_lever_arm > 0)) ThrowInputError("--rotation-lever-arm", "must be positive");
@@ -38,6 +43,15 @@ constexpr const char* kTermC = "E_C";
 constexpr const char* kTermL = "E_L";
 constexpr const char* kTermI = "E_I";
 constexpr const char* kTermM = "E_M";
+constexpr const char* kTermP = "E_P";
+constexpr const char* kTermH = "E_H";
+constexpr const char* kTermG = "E_G";
+
+// A plane variable: its normal and offset blocks.
+struct PlaneVariable {
+  Eigen::Vector3d normal;
+  double offset = 0;
+};
 
 std::unique_ptr<ceres::LossFunction> MakeLoss(RobustLoss loss, double scale, double weight) {
   ceres::LossFunction* robust = nullptr;
@@ -54,6 +68,10 @@ class PoseProblem {
   void AddPose(Pose* pose) {
     problem_.AddParameterBlock(pose->rotation_data(), 4, &quaternion_);
     problem_.AddParameterBlock(pose->translation_data(), 3);
+  }
+  void AddPlane(PlaneVariable* plane) {
+    problem_.AddParameterBlock(plane->normal.data(), 3, &sphere_);
+    problem_.AddParameterBlock(&plane->offset, 1);
   }
   void FixPose(Pose* pose) {
     problem_.SetParameterBlockConstant(pose->rotation_data());
@@ -106,6 +124,7 @@ class PoseProblem {
     return o;
   }
   ceres::EigenQuaternionManifold quaternion_;
+  ceres::SphereManifold<3> sphere_;
   std::map<std::pair<std::string, double>, std::unique_ptr<ceres::LossFunction>> losses_;
   std::map<std::string, std::vector<ceres::ResidualBlockId>> terms_;
   std::map<std::string, std::vector<std::pair<const PairCost*, std::vector<double*>>>> pair_blocks_;
@@ -114,7 +133,8 @@ class PoseProblem {
 
 }  // namespace
 
-SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& options, PoseVector* poses) {
+SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& options, PoseVector* poses,
+                        std::vector<PlaneEstimate>* solved_parents) {
   const std::vector<FeatureCorrespondence>& correspondences = constraints.correspondences;
   const std::vector<RelativePoseConstraint>& local = constraints.local;
   options.Check();
@@ -197,7 +217,62 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
     pp.AddPair(kTermM, new PairCost(std::move(list), RobustLoss::kCauchy, options.match_loss_scale, b.data()), b);
   }
 
-  // E_I: each pose's change in this iteration, w_I / n per pose.
+  // The structural model. Children start where their frame's pose puts the image's plane
+  // (E_P is zero there); parents where the hierarchy fitted them.
+  const StructureConstraints& structure = constraints.structure;
+  std::vector<PlaneVariable> children(structure.children.size()), parents(structure.parents.size());
+  const bool use_structure = !structure.empty() && options.weight_proxy > 0;
+  if (use_structure) {
+    double sum_p = 0;
+    for (const ChildProxy& c : structure.children) sum_p += c.share;
+    for (size_t i = 0; i < children.size(); ++i) {
+      const ChildProxy& c = structure.children[i];
+      F2C_CHECK(c.frame >= 0 && c.frame < n, "child proxy frame in range");
+      Pose& pose = (*poses)[c.frame];
+      children[i].normal = (pose.rotation * c.normal.cast<double>()).normalized();
+      children[i].offset = c.offset + children[i].normal.dot(pose.translation);
+      pp.AddPlane(&children[i]);
+      // E_P: w_P m_j / sum(m) times the members' mean squared distance.
+      const double s = std::sqrt(options.weight_proxy * c.share / sum_p);
+      pp.Add(kTermP, ProxyFitCost::Create(c.centroid.cast<double>(), s * SqrtCovariance(c.covariance.cast<double>())),
+             nullptr, {pose.rotation_data(), pose.translation_data(), children[i].normal.data(), &children[i].offset});
+    }
+    for (size_t i = 0; i < parents.size(); ++i) {
+      parents[i].normal = structure.parents[i].normal.normalized();
+      parents[i].offset = structure.parents[i].offset;
+      pp.AddPlane(&parents[i]);
+    }
+    // E_H: w_H v / sum(v) per link.
+    double sum_h = 0;
+    for (const CoplanarLink& l : structure.links) sum_h += l.weight;
+    for (const CoplanarLink& l : structure.links) {
+      if (options.weight_coplanarity == 0 || sum_h <= 0) break;
+      F2C_CHECK(l.child >= 0 && l.child < static_cast<int>(children.size()) && l.parent >= 0 &&
+                    l.parent < static_cast<int>(parents.size()),
+                "coplanarity link in range");
+      const double s = std::sqrt(options.weight_coplanarity * l.weight / sum_h);
+      PlaneVariable& c = children[l.child];
+      PlaneVariable& p = parents[l.parent];
+      pp.Add(kTermH, CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, s), nullptr,
+             {c.normal.data(), &c.offset, p.normal.data(), &p.offset});
+    }
+    // E_G: w_G w_ab / sum(w) per relation.
+    double sum_g = 0;
+    for (const PlaneRelation& r : structure.relations) sum_g += r.weight;
+    for (const PlaneRelation& r : structure.relations) {
+      if (options.weight_relation == 0 || sum_g <= 0) break;
+      F2C_CHECK(r.parent_a >= 0 && r.parent_a < static_cast<int>(parents.size()) && r.parent_b >= 0 &&
+                    r.parent_b < static_cast<int>(parents.size()) && r.parent_a != r.parent_b,
+                "relation parents in range");
+      const double s = std::sqrt(options.weight_relation * r.weight / sum_g);
+      ceres::CostFunction* cost = r.type == RelationType::kOrthogonal
+                                      ? OrthogonalCost::Create(s)
+                                      : ParallelCost::Create(r.type == RelationType::kParallel ? 1.0 : -1.0, s);
+      pp.Add(kTermG, cost, nullptr, {parents[r.parent_a].normal.data(), parents[r.parent_b].normal.data()});
+    }
+  }
+
+  // E_I: each pose's change in this iteration, w_I / n per pose; each plane's, w_I / planes.
   if (options.weight_inertia > 0) {
     const double s = std::sqrt(options.weight_inertia / n);
     for (int i = 1; i < n; ++i) {
@@ -205,6 +280,15 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       pp.Add(kTermI,
              PoseChangeCost::Create(previous[i].rotation, previous[i].translation, s, s * options.rotation_lever_arm),
              nullptr, {p.rotation_data(), p.translation_data()});
+    }
+    if (use_structure) {
+      const double sp = std::sqrt(options.weight_inertia / static_cast<double>(children.size() + parents.size()));
+      for (auto* planes : {&children, &parents}) {
+        for (PlaneVariable& v : *planes) {
+          pp.Add(kTermI, PlaneChangeCost::Create(v.normal, v.offset, sp * options.rotation_lever_arm, sp), nullptr,
+                 {v.normal.data(), &v.offset});
+        }
+      }
     }
   }
 
@@ -235,6 +319,12 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   summary.usable = ceres_summary.IsSolutionUsable();
   for (const ceres::IterationSummary& it : ceres_summary.iterations) summary.linear_iterations += it.linear_solver_iterations;
   if (!summary.usable) *poses = previous;  // a failed solve leaves the poses as they were
+  if (solved_parents) {
+    solved_parents->assign(structure.parents.begin(), structure.parents.end());
+    if (summary.usable && use_structure) {
+      for (size_t i = 0; i < parents.size(); ++i) (*solved_parents)[i] = {parents[i].normal.normalized(), parents[i].offset};
+    }
+  }
   for (Pose& p : *poses) p.rotation.normalize();
   summary.seconds = timer.Seconds();
   return summary;
@@ -245,6 +335,9 @@ nlohmann::json ToJson(const SolverOptions& o) {
           {"weight_local", o.weight_local},
           {"weight_inertia", o.weight_inertia},
           {"weight_match", o.weight_match},
+          {"weight_proxy", o.weight_proxy},
+          {"weight_coplanarity", o.weight_coplanarity},
+          {"weight_relation", o.weight_relation},
           {"match_loss_scale", o.match_loss_scale},
           {"local_loss_scale", o.local_loss_scale},
           {"rotation_lever_arm", o.rotation_lever_arm},

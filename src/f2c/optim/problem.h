@@ -1,15 +1,18 @@
 #pragma once
 // One refinement iteration's optimisation (paper §4.3):
-//   argmin_T  w_C E_C(T, C) + w_L E_L(T) + w_I E_I(T) + w_M E_M(T)
-// over every camera pose but the first, which is held fixed (the gauge). Each term's weight
+//   argmin_{T,P}  w_C E_C(T, C) + w_L E_L(T) + w_I E_I(T, P) + w_M E_M(T)
+//                 + w_P E_P(T, P) + w_H E_H(P) + w_G E_G(P)
+// over every camera pose but the first, which is held fixed (the gauge), and the plane
+// variables P of the structural model (optim/structure_costs.h), when there is one. Each term's weight
 // is a total shared among its residuals, as in the authors' code (DESIGN.md §2): a residual
 // of a term with N residuals and relative weights v_i gets w v_i / sum(v), so the balance of
 // the terms does not change with how many constraints an iteration finds. E_C residuals go
 // through a robust loss (metres). E_M (SIFT matches the refinement found, beyond the paper)
 // weighs each match w_M / n (n frames), not shared: a verified match counts the same however
 // many others there are; its Cauchy loss (match_loss_scale) tames the rare wrong one. Solved with Ceres: sparse normal Cholesky (SuiteSparse),
-// poses on EigenQuaternionManifold x R^3. Part 2's structure terms add residual blocks to the
-// same problem.
+// poses on EigenQuaternionManifold x R^3, plane normals on SphereManifold<3>. E_P shares w_P
+// among the children by their m_j, E_H w_H among the links, E_G w_G among the relations by
+// w_ab, and E_I w_I / n per pose and w_I / (number of planes) per plane.
 
 #include <map>
 #include <nlohmann/json_fwd.hpp>
@@ -30,6 +33,11 @@ struct SolverOptions {
   double weight_local = 10;
   double weight_inertia = 1;
   double weight_match = 100;
+  // The structural model's totals (E_P, E_H, E_G); the authors' code: E_S 1500 -> 1000 and
+  // E_H 1500 -> 1000 over the iterations. Measured choices in BENCHMARKS.md.
+  double weight_proxy = 1000;
+  double weight_coplanarity = 1000;
+  double weight_relation = 1000;
   // Cauchy scale of E_L's residuals (metres; rotations at the lever arm); 0: plain least
   // squares. An odometry pair can be wrong outright (ICP turning freely along a plain wall):
   // with least squares, loops spread such an error over every pair; a robust E_L lets it
@@ -72,7 +80,9 @@ struct SolveSummary {
 
 // Minimises the energy above, starting from and writing to `poses` (world_from_camera, one
 // per frame). The poses on entry are E_I's reference.
-SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& options, PoseVector* poses);
+// The solved parent planes go to `parents` when given (one per constraints.structure.parents).
+SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& options, PoseVector* poses,
+                        std::vector<PlaneEstimate>* parents = nullptr);
 
 nlohmann::json ToJson(const SolverOptions& options);
 nlohmann::json ToJson(const SolveSummary& summary);

@@ -1,0 +1,146 @@
+#pragma once
+// The residuals of the paper's planar structure error E_S = w_P E_P + w_H E_H + w_G E_G
+// (§4.3, "Planar Structure Error"), as templated functors for ceres::AutoDiffCostFunction.
+// A plane is a variable of two blocks: a unit normal n (3, on ceres::SphereManifold<3>) and
+// an offset d (1): the plane {x : n . x = d}, in world coordinates. Poses are as in
+// optim/cost_functions.h (x_world = R(q) x_camera + t). Residuals are unweighted: metres, or
+// unit-vector differences; optim/problem.cc applies each term's weight.
+
+#include <ceres/autodiff_cost_function.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace f2c {
+
+// E_P, one per-image proxy (a child) against the features of its frame that support it:
+//   E_cp(P_j, T[k] F) = sum_i (n . (R x_i + t) - d)^2        x_i: the members, camera coords
+// With the plane in camera coordinates, h = (R^T n, n . t - d), each term is (h_n . x_i +
+// h_d)^2, and over m members with centroid c and (population) covariance Sigma the sum is
+// exactly
+//   m ((h_n . c + h_d)^2 + h_n^T Sigma h_n)  =  m |(h_n . c + h_d, S h_n)|^2,  S^T S = Sigma.
+// So the residuals are r = (h_n . c + h_d, S h_n) (metres), the root-mean-square distance of
+// the members to the plane, and the problem weighs them by the proxy's share m_j of the
+// paper's sum m_j = 100 n: the paper's subsample in expectation, without its sampling noise,
+// in four residuals whatever the proxy's size.
+struct ProxyFitCost {
+  ProxyFitCost(const Eigen::Vector3d& centroid, const Eigen::Matrix3d& sqrt_covariance)
+      : centroid_(centroid), sqrt_covariance_(sqrt_covariance) {}
+
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, const T* normal, const T* offset, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(rotation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n(normal);
+    const Eigen::Matrix<T, 3, 1> h_n = q.conjugate() * n;
+    const T h_d = n.dot(t) - offset[0];
+    residual[0] = h_n.dot(centroid_.cast<T>()) + h_d;
+    const Eigen::Matrix<T, 3, 1> s = sqrt_covariance_.cast<T>() * h_n;
+    residual[1] = s[0];
+    residual[2] = s[1];
+    residual[3] = s[2];
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Vector3d& centroid, const Eigen::Matrix3d& sqrt_covariance) {
+    return new ceres::AutoDiffCostFunction<ProxyFitCost, 4, 4, 3, 3, 1>(new ProxyFitCost(centroid, sqrt_covariance));
+  }
+
+ private:
+  Eigen::Vector3d centroid_;
+  Eigen::Matrix3d sqrt_covariance_;
+};
+
+// S with S^T S = Sigma for a symmetric positive semi-definite Sigma (eigenvalues clamped at 0).
+Eigen::Matrix3d SqrtCovariance(const Eigen::Matrix3d& covariance);
+
+// E_H's E_cp(parent, child): how far a child proxy is from being coplanar with its parent.
+// With a the child's anchor (its centroid in world coordinates when the hierarchy was built)
+// and p = a - (n_c . a - d_c) n_c its foot on the child's plane:
+//   r[0]    = n_p . p - d_p               the child's centre off the parent's plane (metres)
+//   r[1..3] = lever (n_c - n_p)           the normals' difference, at a lever arm (metres)
+// Zero exactly when the planes coincide (same normal, and the child's centre on the parent).
+// All residuals are multiplied by `scale` (the square root of the link's weight).
+struct CoplanarityCost {
+  CoplanarityCost(const Eigen::Vector3d& anchor, double lever_arm, double scale)
+      : anchor_(anchor), lever_(lever_arm), scale_(scale) {}
+
+  template <typename T>
+  bool operator()(const T* child_normal, const T* child_offset, const T* parent_normal, const T* parent_offset,
+                  T* residual) const {
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n_c(child_normal);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n_p(parent_normal);
+    const Eigen::Matrix<T, 3, 1> a = anchor_.cast<T>();
+    const Eigen::Matrix<T, 3, 1> p = a - (n_c.dot(a) - child_offset[0]) * n_c;
+    residual[0] = T(scale_) * (n_p.dot(p) - parent_offset[0]);
+    for (int i = 0; i < 3; ++i) residual[1 + i] = T(scale_ * lever_) * (n_c[i] - n_p[i]);
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Vector3d& anchor, double lever_arm, double scale = 1) {
+    return new ceres::AutoDiffCostFunction<CoplanarityCost, 4, 3, 1, 3, 1>(new CoplanarityCost(anchor, lever_arm, scale));
+  }
+
+ private:
+  Eigen::Vector3d anchor_;
+  double lever_, scale_;
+};
+
+// E_G, a relation between two parent proxies' normals (the paper's three cases):
+//   parallel      r = n_a - n_b            (3 residuals)
+//   antiparallel  r = n_a + n_b            (3)
+//   orthogonal    r = n_a . n_b            (1)
+// multiplied by `scale` (the square root of the relation's weight).
+struct ParallelCost {
+  ParallelCost(double sign, double scale) : sign_(sign), scale_(scale) {}
+  template <typename T>
+  bool operator()(const T* normal_a, const T* normal_b, T* residual) const {
+    for (int i = 0; i < 3; ++i) residual[i] = T(scale_) * (normal_a[i] - T(sign_) * normal_b[i]);
+    return true;
+  }
+  // sign +1: parallel; -1: antiparallel.
+  static ceres::CostFunction* Create(double sign, double scale = 1) {
+    return new ceres::AutoDiffCostFunction<ParallelCost, 3, 3, 3>(new ParallelCost(sign, scale));
+  }
+
+ private:
+  double sign_, scale_;
+};
+
+struct OrthogonalCost {
+  explicit OrthogonalCost(double scale) : scale_(scale) {}
+  template <typename T>
+  bool operator()(const T* normal_a, const T* normal_b, T* residual) const {
+    residual[0] = T(scale_) * (normal_a[0] * normal_b[0] + normal_a[1] * normal_b[1] + normal_a[2] * normal_b[2]);
+    return true;
+  }
+  static ceres::CostFunction* Create(double scale = 1) {
+    return new ceres::AutoDiffCostFunction<OrthogonalCost, 1, 3, 3>(new OrthogonalCost(scale));
+  }
+
+ private:
+  double scale_;
+};
+
+// E_I for a plane (the paper's E_I sums pose and plane changes): its change in this
+// iteration, r = (s_n (n - n_0), s_d (d - d_0)).
+struct PlaneChangeCost {
+  PlaneChangeCost(const Eigen::Vector3d& normal, double offset, double s_normal, double s_offset)
+      : normal_(normal), offset_(offset), s_n_(s_normal), s_d_(s_offset) {}
+  template <typename T>
+  bool operator()(const T* normal, const T* offset, T* residual) const {
+    for (int i = 0; i < 3; ++i) residual[i] = T(s_n_) * (normal[i] - T(normal_[i]));
+    residual[3] = T(s_d_) * (offset[0] - T(offset_));
+    return true;
+  }
+  static ceres::CostFunction* Create(const Eigen::Vector3d& normal, double offset, double s_normal, double s_offset) {
+    return new ceres::AutoDiffCostFunction<PlaneChangeCost, 4, 3, 1>(
+        new PlaneChangeCost(normal, offset, s_normal, s_offset));
+  }
+
+ private:
+  Eigen::Vector3d normal_;
+  double offset_, s_n_, s_d_;
+};
+
+}  // namespace f2c

@@ -1,0 +1,155 @@
+#include "f2c/optim/structure_costs.h"
+
+#include <ceres/sphere_manifold.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "f2c/optim/jacobian_check.h"
+#include "f2c/optim/pose.h"
+
+namespace f2c {
+namespace {
+
+Pose RandomPose(std::mt19937& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  Pose pose;
+  pose.rotation = Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized();
+  pose.translation = Eigen::Vector3d(n(rng), n(rng), n(rng));
+  return pose;
+}
+
+// Members of a proxy in camera coordinates: points of the world plane {n . x = d} (plus
+// `off` along n), seen from `pose`; their centroid and population covariance.
+struct Members {
+  std::vector<Eigen::Vector3d> points;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+};
+
+Members MembersOf(const Pose& pose, const Eigen::Vector3d& n, double d, std::mt19937& rng, double noise) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  const Eigen::Vector3d u = n.unitOrthogonal(), v = n.cross(u);
+  Members m;
+  for (int i = 0; i < 40; ++i) {
+    const Eigen::Vector3d world = d * n + 0.7 * g(rng) * u + 0.4 * g(rng) * v + noise * g(rng) * n;
+    m.points.push_back(pose.rotation.conjugate() * (world - pose.translation));
+  }
+  for (const auto& p : m.points) m.centroid += p / m.points.size();
+  for (const auto& p : m.points) m.covariance += (p - m.centroid) * (p - m.centroid).transpose() / m.points.size();
+  return m;
+}
+
+class StructureCosts : public ::testing::Test {
+ protected:
+  ceres::EigenQuaternionManifold quaternion_;
+  ceres::SphereManifold<3> sphere_;
+  std::mt19937 rng_{11};
+};
+
+TEST_F(StructureCosts, SqrtCovarianceSquaresToTheCovariance) {
+  Eigen::Matrix3d a = Eigen::Matrix3d::Random();
+  const Eigen::Matrix3d sigma = a * a.transpose();
+  const Eigen::Matrix3d s = SqrtCovariance(sigma);
+  EXPECT_LT((s.transpose() * s - sigma).norm(), 1e-12);
+}
+
+TEST_F(StructureCosts, ProxyFitVanishesOnThePlaneAndIsTheMeanSquaredDistanceOffIt) {
+  Pose pose = RandomPose(rng_);
+  Eigen::Vector3d n = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
+  double d = 1.7;
+  const Members exact = MembersOf(pose, n, d, rng_, 0.0);
+  std::unique_ptr<ceres::CostFunction> cost(ProxyFitCost::Create(exact.centroid, SqrtCovariance(exact.covariance)));
+  std::vector<double*> blocks = {pose.rotation_data(), pose.translation_data(), n.data(), &d};
+  for (double r : Residuals(*cost, blocks)) EXPECT_NEAR(r, 0, 1e-9);
+
+  // Noisy members against a plane moved by 3 cm: |r|^2 is their mean squared distance,
+  // summed point by point here.
+  const Members noisy = MembersOf(pose, n, d, rng_, 0.01);
+  cost.reset(ProxyFitCost::Create(noisy.centroid, SqrtCovariance(noisy.covariance)));
+  double moved = d + 0.03;
+  blocks[3] = &moved;
+  double expected = 0;
+  for (const auto& x : noisy.points) expected += std::pow(n.dot(pose.rotation * x + pose.translation) - moved, 2);
+  expected /= noisy.points.size();
+  double got = 0;
+  for (double r : Residuals(*cost, blocks)) got += r * r;
+  EXPECT_NEAR(got, expected, 1e-12);
+  EXPECT_GT(got, 0.02 * 0.02);
+  ExpectJacobiansMatch(*cost, blocks, {&quaternion_, nullptr, &sphere_, nullptr});
+}
+
+TEST_F(StructureCosts, CoplanarityVanishesForTheSamePlaneAndIsHandComputedOtherwise) {
+  Eigen::Vector3d parent_n(0, 0, 1), child_n(0, 0, 1);
+  double parent_d = 0, child_d = 0;
+  std::unique_ptr<ceres::CostFunction> cost(CoplanarityCost::Create(Eigen::Vector3d(1, 2, 0.3), 2.0));
+  std::vector<double*> blocks = {child_n.data(), &child_d, parent_n.data(), &parent_d};
+  for (double r : Residuals(*cost, blocks)) EXPECT_NEAR(r, 0, 1e-12);  // the anchor need not lie on it
+
+  // The child 0.1 m above: its foot of the anchor is (1, 2, 0.1), 0.1 m off the parent.
+  child_d = 0.1;
+  std::vector<double> r = Residuals(*cost, blocks);
+  EXPECT_NEAR(r[0], 0.1, 1e-12);
+  EXPECT_NEAR(r[1], 0, 1e-12);
+  // Tilted by a about y through the origin: foot p = a - (n . a) n, r[0] = p_z, and the
+  // normals differ by (sin a, 0, cos a - 1) at the lever arm 2.
+  const double angle = 0.2;
+  child_n = Eigen::Vector3d(std::sin(angle), 0, std::cos(angle));
+  child_d = 0;
+  const Eigen::Vector3d anchor(1, 2, 0.3);
+  const Eigen::Vector3d foot = anchor - child_n.dot(anchor) * child_n;
+  r = Residuals(*cost, blocks);
+  EXPECT_NEAR(r[0], foot.z(), 1e-12);
+  EXPECT_NEAR(r[1], 2 * std::sin(angle), 1e-12);
+  EXPECT_NEAR(r[2], 0, 1e-12);
+  EXPECT_NEAR(r[3], 2 * (std::cos(angle) - 1), 1e-12);
+  std::unique_ptr<ceres::CostFunction> scaled(CoplanarityCost::Create(anchor, 2.0, 3.0));
+  EXPECT_NEAR(Residuals(*scaled, blocks)[1], 3 * r[1], 1e-12);
+  child_d = 0.05;
+  ExpectJacobiansMatch(*cost, blocks, {&sphere_, nullptr, &sphere_, nullptr});
+}
+
+TEST_F(StructureCosts, RelationsVanishWhenMetAndAreHandComputedOtherwise) {
+  Eigen::Vector3d a(1, 0, 0), b(1, 0, 0);
+  std::unique_ptr<ceres::CostFunction> parallel(ParallelCost::Create(1.0));
+  std::unique_ptr<ceres::CostFunction> antiparallel(ParallelCost::Create(-1.0, 2.0));
+  std::unique_ptr<ceres::CostFunction> orthogonal(OrthogonalCost::Create(3.0));
+  std::vector<double*> blocks = {a.data(), b.data()};
+  for (double r : Residuals(*parallel, blocks)) EXPECT_NEAR(r, 0, 1e-15);
+  b = -a;
+  for (double r : Residuals(*antiparallel, blocks)) EXPECT_NEAR(r, 0, 1e-15);
+  b = Eigen::Vector3d(0, 0, 1);
+  EXPECT_NEAR(Residuals(*orthogonal, blocks)[0], 0, 1e-15);
+
+  const double theta = 80 * M_PI / 180;
+  b = Eigen::Vector3d(std::cos(theta), std::sin(theta), 0);
+  EXPECT_NEAR(Residuals(*orthogonal, blocks)[0], 3 * std::cos(theta), 1e-15);
+  std::vector<double> r = Residuals(*parallel, blocks);
+  EXPECT_NEAR(r[0], 1 - std::cos(theta), 1e-15);
+  EXPECT_NEAR(r[1], -std::sin(theta), 1e-15);
+  r = Residuals(*antiparallel, blocks);
+  EXPECT_NEAR(r[0], 2 * (1 + std::cos(theta)), 1e-15);
+  for (auto* cost : {parallel.get(), antiparallel.get(), orthogonal.get()}) {
+    ExpectJacobiansMatch(*cost, blocks, {&sphere_, &sphere_});
+  }
+}
+
+TEST_F(StructureCosts, PlaneChangeVanishesAtThePreviousPlaneAndMeasuresTheChange) {
+  const Eigen::Vector3d n0 = Eigen::Vector3d(1, 2, 2) / 3;
+  Eigen::Vector3d n = n0;
+  double d = 0.5;
+  std::unique_ptr<ceres::CostFunction> cost(PlaneChangeCost::Create(n0, 0.5, 2.0, 3.0));
+  std::vector<double*> blocks = {n.data(), &d};
+  for (double r : Residuals(*cost, blocks)) EXPECT_NEAR(r, 0, 1e-15);
+  n = Eigen::Vector3d(0, 0, 1);
+  d = 0.6;
+  const std::vector<double> r = Residuals(*cost, blocks);
+  EXPECT_NEAR(r[2], 2 * (1 - 2.0 / 3), 1e-15);
+  EXPECT_NEAR(r[3], 3 * 0.1, 1e-12);
+  ExpectJacobiansMatch(*cost, blocks, {&sphere_, nullptr});
+}
+
+}  // namespace
+}  // namespace f2c
