@@ -1,5 +1,6 @@
 #include "apps/refine_options.h"
 
+#include <cmath>
 #include <memory>
 #include <string>
 
@@ -13,6 +14,8 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
   };
   struct Names {
     std::string windows = "frames", thresholds = "age", loss = "cauchy", solve = "one-step", linear = "sparse";
+    std::string schedule = "constant";
+    double coplanar_angle = 0, sigma = 0, max_angle = 0, covisible = 0;  // degrees
   };
   auto names = std::make_shared<Names>();
   names->windows = WindowModeName(o->windows.mode);
@@ -20,6 +23,11 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
   names->loss = RobustLossName(o->solver.loss);
   names->solve = o->solver.one_step ? "one-step" : "converge";
   names->linear = o->solver.iterative ? "cgnr" : "sparse";
+  constexpr double kDeg = M_PI / 180;
+  names->coplanar_angle = o->hierarchy.max_normal_angle / kDeg;
+  names->sigma = o->relations.sigma / kDeg;
+  names->max_angle = o->relations.max_angle / kDeg;
+  names->covisible = o->relations.covisible_tolerance / kDeg;
 
   const std::string w = "Refinement: windows (paper 4.2)";
   add(w, "--windows", &names->windows, "frames: l_0 consecutive frames, doubling (the paper); path: by camera path (the authors' code)");
@@ -29,6 +37,9 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
   add(w, "--extra-iterations", &o->windows.extra_iterations, "iterations after one window holds the whole scan");
   add(w, "--polish-iterations", &o->windows.polish_iterations,
       "then this many more with the polish thresholds (beyond the paper; 0: the paper's schedule only)");
+  cmd->add_flag("!--no-fine-to-coarse", o->windows.fine_to_coarse,
+                "the paper's ablation: every iteration has one window holding the whole scan (as many iterations)")
+      ->group(w);
 
   const std::string p = "Refinement: frame pairs and correspondences (paper 4.2)";
   add(p, "--max-plane-features", &o->features.max_planes, "plane features kept per frame");
@@ -80,6 +91,29 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
   add(e, "--solver-threads", &o->solver.threads, "Ceres threads (0: as --threads)");
   add(e, "--refine-seed", &o->correspondences.seed, "seed of the correspondence sampling");
 
+  const std::string st = "Refinement: planar structure (paper 4.2-4.3)";
+  cmd->add_flag("!--no-structure", o->structure, "the paper's ablation: no E_P, E_H, E_G")->group(st);
+  add(st, "--weight-proxy", &o->solver.weight_proxy, "w_P, E_P's total weight (children fit their images)");
+  add(st, "--weight-coplanarity", &o->solver.weight_coplanarity, "w_H, E_H's total weight (children coplanar with parents)");
+  add(st, "--weight-relation", &o->solver.weight_relation, "w_G, E_G's total weight (parallel/antiparallel/orthogonal parents)");
+  add(st, "--weight-proxy-initial", &o->weight_proxy_initial, "w_P in the first iteration, linear to --weight-proxy; < 0: constant");
+  add(st, "--weight-coplanarity-initial", &o->weight_coplanarity_initial, "w_H in the first iteration; < 0: constant");
+  add(st, "--weight-relation-initial", &o->weight_relation_initial, "w_G in the first iteration; < 0: constant");
+  add(st, "--weight-schedule", &names->schedule,
+      "constant: the *-initial options as given; authors: every term's first weight 1.5 times its last (E_C, E_P, E_H, E_G), as their 1500 -> 1000");
+  add(st, "--max-proxies", &o->features.max_proxies, "per-image proxies per frame taken as children (largest)");
+  add(st, "--min-proxy-inliers", &o->features.min_proxy_inliers, "...with at least this many member cells");
+  add(st, "--coplanar-distance", &o->hierarchy.max_distance, "parents: children merge within this plane distance (m)");
+  add(st, "--coplanar-angle", &names->coplanar_angle, "...and this normal angle (deg)");
+  add(st, "--relation-sigma", &names->sigma, "relations: sigma of the Gaussian weight on the angle (deg)");
+  add(st, "--relation-max-angle", &names->max_angle, "relations: admitted within this of 0, 90, 180 deg (deg)");
+  add(st, "--relation-min-weight", &o->relations.min_weight, "relations: and with a weight above this");
+  cmd->add_flag("!--no-adjacent-relations", o->relations.adjacent_windows,
+                "relations within a window only (default: also between adjacent windows)")
+      ->group(st);
+  add(st, "--relation-covisible-tolerance", &names->covisible,
+      "drop a relation when images that see both parents measure their angle farther than this from it (deg; 0: off)");
+
   const std::string l = "Refinement: SIFT loops and bridges (beyond the paper)";
   auto& lo = o->loops;
   cmd->add_flag("--sift-loops,!--no-sift-loops", lo.enabled, "SIFT re-matching of keyframes (default on; --no-sift-loops: closest features only, as the paper)")
@@ -113,6 +147,18 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
       throw InputError("--linear-solver: unknown solver '" + names->linear + "' (sparse, cgnr)");
     }
     o->solver.iterative = names->linear == "cgnr";
+    o->hierarchy.max_normal_angle = names->coplanar_angle * kDeg;
+    o->relations.sigma = names->sigma * kDeg;
+    o->relations.max_angle = names->max_angle * kDeg;
+    o->relations.covisible_tolerance = names->covisible * kDeg;
+    if (names->schedule == "authors") {
+      o->weight_correspondence_initial = 1.5 * o->solver.weight_correspondence;
+      o->weight_proxy_initial = 1.5 * o->solver.weight_proxy;
+      o->weight_coplanarity_initial = 1.5 * o->solver.weight_coplanarity;
+      o->weight_relation_initial = 1.5 * o->solver.weight_relation;
+    } else if (names->schedule != "constant") {
+      throw InputError("--weight-schedule: unknown schedule '" + names->schedule + "' (constant, authors)");
+    }
   };
 }
 

@@ -32,6 +32,7 @@ void SolverOptions::Check() const {
   if (!(rotation_lever_arm > 0)) ThrowInputError("--rotation-lever-arm", "must be positive");
   if (!(loss_scale > 0)) ThrowInputError("--loss-scale", "must be positive");
   if (max_iterations < 1) ThrowInputError("--solver-iterations", "must be >= 1");
+  if (plane_presolve_iterations < 0) ThrowInputError("--plane-presolve-iterations", "must be >= 0");
   if (max_linear_iterations < 1) ThrowInputError("--linear-iterations", "must be >= 1");
   if (!(function_tolerance > 0)) ThrowInputError("solver.function_tolerance", "must be positive");
   if (threads < 0) ThrowInputError("--solver-threads", "must be >= 0");
@@ -72,6 +73,10 @@ class PoseProblem {
   void AddPlane(PlaneVariable* plane) {
     problem_.AddParameterBlock(plane->normal.data(), 3, &sphere_);
     problem_.AddParameterBlock(&plane->offset, 1);
+  }
+  void FreePose(Pose* pose) {
+    problem_.SetParameterBlockVariable(pose->rotation_data());
+    problem_.SetParameterBlockVariable(pose->translation_data());
   }
   void FixPose(Pose* pose) {
     problem_.SetParameterBlockConstant(pose->rotation_data());
@@ -294,6 +299,24 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
 
   summary.residual_blocks = pp.Counts();
   summary.cost_before = pp.TermCosts();
+  // The planes start where the hierarchy put them, not where E_H and E_G balance; one joint
+  // Gauss-Newton step from there overshoots (the step is rejected). So, with the poses held,
+  // the planes are first solved to convergence (a small problem: E_C, E_L, E_M drop out), and
+  // the joint step starts from planes in balance with the current poses.
+  if (use_structure && options.one_step && options.plane_presolve_iterations > 0) {
+    for (int i = 1; i < n; ++i) pp.FixPose(&(*poses)[i]);
+    ceres::Solver::Options planes;
+    planes.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    planes.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+    planes.num_threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+    planes.max_num_iterations = options.plane_presolve_iterations;
+    planes.function_tolerance = options.function_tolerance;
+    planes.logging_type = ceres::SILENT;
+    ceres::Solver::Summary planes_summary;
+    ceres::Solve(planes, &pp.problem(), &planes_summary);
+    summary.plane_presolve_iterations = static_cast<int>(planes_summary.iterations.size()) - 1;
+    for (int i = 1; i < n; ++i) pp.FreePose(&(*poses)[i]);
+  }
   ceres::Solver::Options solver;
   if (options.iterative) {
     solver.linear_solver_type = ceres::CGNR;
@@ -344,6 +367,7 @@ nlohmann::json ToJson(const SolverOptions& o) {
           {"loss", RobustLossName(o.loss)},
           {"loss_scale", o.loss_scale},
           {"max_iterations", o.max_iterations},
+          {"plane_presolve_iterations", o.plane_presolve_iterations},
           {"one_step", o.one_step},
           {"function_tolerance", o.function_tolerance},
           {"linear_solver", o.iterative ? "cgnr" : "sparse_cholesky"},
@@ -354,6 +378,7 @@ nlohmann::json ToJson(const SolverOptions& o) {
 nlohmann::json ToJson(const SolveSummary& s) {
   return {{"cost_before", s.cost_before}, {"cost_after", s.cost_after}, {"residual_blocks", s.residual_blocks},
           {"ceres_iterations", s.iterations}, {"linear_iterations", s.linear_iterations},
+          {"plane_presolve_iterations", s.plane_presolve_iterations},
           {"termination", s.termination}, {"usable", s.usable},
           {"seconds", s.seconds}};
 }

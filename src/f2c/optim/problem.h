@@ -54,6 +54,9 @@ struct SolverOptions {
   // BENCHMARKS.md); otherwise up to max_iterations Ceres iterations.
   int max_iterations = 50;
   bool one_step = true;
+  // One-step mode with the structural model: the planes alone (poses held) are first solved
+  // for up to this many iterations, so the joint step starts from planes in balance (0: off).
+  int plane_presolve_iterations = 10;
   double function_tolerance = 1e-6;
   // The linear solver: sparse Cholesky (SuiteSparse), exact; or conjugate gradients on the
   // normal equations with a block-Jacobi preconditioner, whose memory grows with the
@@ -75,6 +78,7 @@ struct SolveSummary {
   std::string termination;     // Ceres' termination type
   bool usable = false;
   int linear_iterations = 0;  // conjugate-gradient iterations, summed (iterative solver)
+  int plane_presolve_iterations = 0;
   double seconds = 0;
 };
 

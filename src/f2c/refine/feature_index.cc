@@ -13,6 +13,8 @@ void FeatureIndexOptions::Check() const {
   if (max_planes < 1) ThrowInputError("--max-plane-features", "must be >= 1");
   if (max_edges < 1) ThrowInputError("--max-edge-features", "must be >= 1");
   if (coverage_samples < 1) ThrowInputError("feature_index.coverage_samples", "must be >= 1");
+  if (max_proxies < 0) ThrowInputError("--max-proxies", "must be >= 0");
+  if (min_proxy_inliers < 3) ThrowInputError("--min-proxy-inliers", "must be >= 3");
 }
 
 struct FeatureCloud::Tree {
@@ -85,6 +87,12 @@ std::unique_ptr<FrameIndex> BuildFrameIndex(const FrameFeatures& features, const
     frame->families[f].Build();
   }
   if (!kept.empty()) frame->centroid /= static_cast<float>(kept.size());
+  // The structural model's children: the largest per-image proxies (extraction lists them
+  // largest first).
+  for (const PlanarProxy& proxy : features.proxies) {
+    if (static_cast<int>(frame->proxies.size()) >= options.max_proxies) break;
+    if (proxy.inliers >= options.min_proxy_inliers) frame->proxies.push_back(proxy);
+  }
   const int samples = std::min<int>(options.coverage_samples, static_cast<int>(kept.size()));
   for (int j = 0; j < samples; ++j) {
     frame->coverage.push_back(features.features[kept[static_cast<int64_t>(j) * kept.size() / samples]].position);
@@ -95,7 +103,7 @@ std::unique_ptr<FrameIndex> BuildFrameIndex(const FrameFeatures& features, const
 size_t FeatureIndex::MemoryBytes() const {
   size_t bytes = 0;
   for (const auto& f : frames) {
-    bytes += sizeof(FrameIndex) + f->coverage.size() * sizeof(Eigen::Vector3f);
+    bytes += sizeof(FrameIndex) + f->coverage.size() * sizeof(Eigen::Vector3f) + f->proxies.size() * sizeof(PlanarProxy);
     for (const FeatureCloud& c : f->families) bytes += c.MemoryBytes();
   }
   return bytes;
@@ -106,7 +114,9 @@ nlohmann::json ToJson(const FeatureIndexOptions& o) {
           {"max_edges", o.max_edges},
           {"use_shadows", o.use_shadows},
           {"use_borders", o.use_borders},
-          {"coverage_samples", o.coverage_samples}};
+          {"coverage_samples", o.coverage_samples},
+          {"max_proxies", o.max_proxies},
+          {"min_proxy_inliers", o.min_proxy_inliers}};
 }
 
 }  // namespace f2c

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "f2c/features/depth_features.h"
+#include "f2c/features/proxies.h"
 
 namespace f2c {
 
@@ -31,6 +32,10 @@ struct FeatureIndexOptions {
   bool use_borders = false;
   // Points kept per frame to estimate how much two views overlap (refine/pairs).
   int coverage_samples = 24;
+  // Per-image proxies kept per frame for the structural model (the largest), and the fewest
+  // member cells one must have (the extraction's own minimum is 10, DESIGN.md §2).
+  int max_proxies = 8;
+  int min_proxy_inliers = 10;
 
   void Check() const;
 };
@@ -74,6 +79,7 @@ struct FrameIndex {
   Eigen::AlignedBox3f box;                  // of the kept features, camera coordinates
   Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
   std::vector<Eigen::Vector3f> coverage;    // a spread subsample, for overlap estimates
+  std::vector<PlanarProxy> proxies;         // the structural model's children, largest first
   const FeatureCloud& family(FeatureFamily f) const { return families[static_cast<int>(f)]; }
   bool empty() const { return families[0].size() + families[1].size() == 0; }
 };

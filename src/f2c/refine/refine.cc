@@ -46,8 +46,14 @@ void RefineOptions::Check() const {
   local.Check();
   loops.Check();
   solver.Check();
-  if (!(weight_correspondence_initial < 0 || std::isfinite(weight_correspondence_initial))) {
-    ThrowInputError("--weight-correspondence-initial", "must be finite");
+  hierarchy.Check();
+  relations.Check();
+  const std::pair<double, const char*> initial[] = {{weight_correspondence_initial, "--weight-correspondence-initial"},
+                                                    {weight_proxy_initial, "--weight-proxy-initial"},
+                                                    {weight_coplanarity_initial, "--weight-coplanarity-initial"},
+                                                    {weight_relation_initial, "--weight-relation-initial"}};
+  for (const auto& [value, name] : initial) {
+    if (!(value < 0 || std::isfinite(value))) ThrowInputError(name, "must be finite");
   }
 }
 
@@ -133,13 +139,30 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
                                                       options.correspondences, &s.correspondences);
     s.seconds_correspondences = stage.Seconds();
 
-    SolverOptions solver = options.solver;
-    if (options.weight_correspondence_initial >= 0) {
-      const double t = schedule.iterations() > 1 ? static_cast<double>(it) / (schedule.iterations() - 1) : 1.0;
-      solver.weight_correspondence =
-          options.weight_correspondence_initial + t * (options.solver.weight_correspondence - options.weight_correspondence_initial);
+    // The structural model under the current poses.
+    stage.Restart();
+    constraints.structure = {};
+    if (options.structure) {
+      ProxyHierarchy hierarchy = BuildProxyHierarchy(schedule, it, index, result.poses, options.hierarchy);
+      hierarchy.structure.relations = DetectRelations(hierarchy, options.relations, &s.relations);
+      s.hierarchy = hierarchy.stats;
+      constraints.structure = std::move(hierarchy.structure);
     }
+    s.seconds_structure = stage.Seconds();
+
+    SolverOptions solver = options.solver;
+    const double t = schedule.iterations() > 1 ? static_cast<double>(it) / (schedule.iterations() - 1) : 1.0;
+    auto scheduled = [t](double initial, double final_weight) {
+      return initial < 0 ? final_weight : initial + t * (final_weight - initial);
+    };
+    solver.weight_correspondence = scheduled(options.weight_correspondence_initial, options.solver.weight_correspondence);
+    solver.weight_proxy = scheduled(options.weight_proxy_initial, options.solver.weight_proxy);
+    solver.weight_coplanarity = scheduled(options.weight_coplanarity_initial, options.solver.weight_coplanarity);
+    solver.weight_relation = scheduled(options.weight_relation_initial, options.solver.weight_relation);
     s.weight_correspondence = solver.weight_correspondence;
+    s.weight_proxy = solver.weight_proxy;
+    s.weight_coplanarity = solver.weight_coplanarity;
+    s.weight_relation = solver.weight_relation;
     stage.Restart();
     // Polish iterations trust the closest features alone: SIFT points (depth read at a
     // keypoint, colour and depth not always registered) are less precise than they are, and
@@ -151,10 +174,12 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     s.seconds = timer.Seconds();
     if (!run.quiet) {
       spdlog::info("refine {}/{}: windows of {:.4g} {} ({}), {} pairs, {} correspondences, {} SIFT loops (+{}), "
+                   "{} parents, {} relations, "
                    "E_C {:.4g} -> {:.4g}, {} Ceres iterations, max change {:.3f} m / {:.2f} deg, {:.2f} s",
                    it + 1, schedule.iterations(), s.window_length,
                    options.windows.mode == WindowMode::kPath ? "m" : "frames", s.windows, s.candidate_pairs,
-                   s.correspondences.total(), s.loops.pairs, s.loops.accepted, s.solve.cost_before.count("E_C") ? s.solve.cost_before.at("E_C") : 0.0,
+                   s.correspondences.total(), s.loops.pairs, s.loops.accepted, s.hierarchy.parents,
+                   s.relations.total(), s.solve.cost_before.count("E_C") ? s.solve.cost_before.at("E_C") : 0.0,
                    s.solve.cost_after.count("E_C") ? s.solve.cost_after.at("E_C") : 0.0, s.solve.iterations,
                    s.max_translation_change, s.max_rotation_change_deg, s.seconds);
     }
@@ -173,7 +198,13 @@ nlohmann::json ToJson(const RefineOptions& o) {
           {"local", ToJson(o.local)},
           {"sift_loops", ToJson(o.loops)},
           {"solver", ToJson(o.solver)},
-          {"weight_correspondence_initial", o.weight_correspondence_initial}};
+          {"structure", o.structure},
+          {"hierarchy", ToJson(o.hierarchy)},
+          {"relations", ToJson(o.relations)},
+          {"weight_correspondence_initial", o.weight_correspondence_initial},
+          {"weight_proxy_initial", o.weight_proxy_initial},
+          {"weight_coplanarity_initial", o.weight_coplanarity_initial},
+          {"weight_relation_initial", o.weight_relation_initial}};
 }
 
 nlohmann::json ToJson(const IterationSummary& s) {
@@ -185,7 +216,12 @@ nlohmann::json ToJson(const IterationSummary& s) {
           {"correspondences", ToJson(s.correspondences)},
           {"sift_loops", ToJson(s.loops)},
           {"local_constraints", s.local_constraints},
-          {"weight_correspondence", s.weight_correspondence},
+          {"weights", {{"E_C", s.weight_correspondence},
+                       {"E_P", s.weight_proxy},
+                       {"E_H", s.weight_coplanarity},
+                       {"E_G", s.weight_relation}}},
+          {"hierarchy", ToJson(s.hierarchy)},
+          {"relations", ToJson(s.relations)},
           {"loop_presolve", s.presolve.termination.empty() ? nlohmann::json(nullptr) : ToJson(s.presolve)},
           {"solve", ToJson(s.solve)},
           {"max_translation_change_m", s.max_translation_change},
@@ -193,6 +229,7 @@ nlohmann::json ToJson(const IterationSummary& s) {
           {"seconds", {{"pairs", s.seconds_pairs},
                        {"correspondences", s.seconds_correspondences},
                        {"sift_loops", s.seconds_loops},
+                       {"structure", s.seconds_structure},
                        {"solve", s.seconds_solve},
                        {"total", s.seconds}}}};
 }

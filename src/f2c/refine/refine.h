@@ -6,7 +6,10 @@
 //     C_i    = FindCorrespondences(pairs, poses)     closest compatible features (E_C)
 //     M      = SIFT matches of keyframe pairs that    (beyond the paper; refine/sift_loops.h)
 //              now share a window, verified
-//     poses  = argmin w_C E_C + w_L E_L + w_I E_I + w_M E_M    (optim/problem.h)
+//     H      = ProxyHierarchy(windows_i, poses)      children, coplanar parents per window
+//     G      = DetectRelations(H)                    parallel / antiparallel / orthogonal
+//     poses, planes = argmin w_C E_C + w_L E_L + w_I E_I + w_M E_M
+//                            + w_P E_P + w_H E_H + w_G E_G          (optim/problem.h)
 //
 // E_L's constraints come from the odometry once (refine/local_alignment.h). Everything is
 // rebuilt from the current poses each iteration, seeded, so the result does not depend on
@@ -21,8 +24,10 @@
 #include "f2c/optim/problem.h"
 #include "f2c/refine/correspondences.h"
 #include "f2c/refine/feature_index.h"
+#include "f2c/refine/hierarchy.h"
 #include "f2c/refine/local_alignment.h"
 #include "f2c/refine/pairs.h"
+#include "f2c/refine/relations.h"
 #include "f2c/refine/sift_loops.h"
 #include "f2c/refine/windows.h"
 
@@ -36,9 +41,17 @@ struct RefineOptions {
   LocalAlignmentOptions local;
   SiftLoopOptions loops;
   SolverOptions solver;
-  // The authors' linear schedule of E_C's weight: this in the first iteration, falling
-  // linearly to solver.weight_correspondence in the last (they use 1500 -> 1000); < 0: off.
+  // The planar structural model (E_P, E_H, E_G); false: the paper's --no-structure ablation.
+  bool structure = true;
+  HierarchyOptions hierarchy;
+  RelationOptions relations;
+  // The authors' linear weight schedule: a term's weight is this in the first iteration and
+  // moves linearly to its solver weight in the last (they use 1500 -> 1000 for E_C, E_S and
+  // E_H); < 0: the solver weight throughout.
   double weight_correspondence_initial = -1;
+  double weight_proxy_initial = -1;
+  double weight_coplanarity_initial = -1;
+  double weight_relation_initial = -1;
 
   void Check() const;  // InputError naming the option when out of range
 };
@@ -53,11 +66,15 @@ struct IterationSummary {
   SiftLoopStats loops;
   int local_constraints = 0;
   double weight_correspondence = 0;
+  double weight_proxy = 0, weight_coplanarity = 0, weight_relation = 0;
+  HierarchyStats hierarchy;
+  RelationStats relations;
   SolveSummary presolve;  // when new SIFT loops were accepted (termination empty otherwise)
   SolveSummary solve;
   double max_translation_change = 0;  // metres, over all poses
   double max_rotation_change_deg = 0;
-  double seconds_pairs = 0, seconds_correspondences = 0, seconds_loops = 0, seconds_solve = 0, seconds = 0;
+  double seconds_pairs = 0, seconds_correspondences = 0, seconds_loops = 0, seconds_structure = 0, seconds_solve = 0,
+         seconds = 0;
 };
 
 struct RefineResult {

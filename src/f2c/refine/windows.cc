@@ -40,9 +40,12 @@ WindowSchedule::WindowSchedule(const WindowOptions& options, std::vector<double>
   int growth = 0;
   while (!Full(growth)) ++growth;
   iterations_ = growth + 1 + options.extra_iterations + options.polish_iterations;
+  // The ablation: as many iterations, each with the whole scan in one window.
+  whole_scan_only_ = !options.fine_to_coarse;
 }
 
 double WindowSchedule::Length(int iteration) const {
+  if (whole_scan_only_) iteration = 60;
   const double doubling = std::ldexp(1.0, std::min(iteration, 60));
   if (options_.mode == WindowMode::kFrames) {
     return std::min(options_.initial_frames * doubling, std::max<double>(frames(), options_.initial_frames));
@@ -102,7 +105,8 @@ nlohmann::json ToJson(const WindowOptions& o) {
           {"initial_path", o.initial_path},
           {"path_cap", o.path_cap},
           {"extra_iterations", o.extra_iterations},
-          {"polish_iterations", o.polish_iterations}};
+          {"polish_iterations", o.polish_iterations},
+          {"fine_to_coarse", o.fine_to_coarse}};
 }
 
 }  // namespace f2c

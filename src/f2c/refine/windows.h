@@ -35,6 +35,9 @@ struct WindowOptions {
   // correspondences use the tighter polish thresholds (refine/correspondences.h). Measured in
   // BENCHMARKS.md: the paper's final 0.15 m admits closest points on neighbouring surfaces.
   int polish_iterations = 6;
+  // false: the paper's ablation (--no-fine-to-coarse): every iteration has one window that
+  // holds the whole scan, as many iterations as the fine-to-coarse schedule would run.
+  bool fine_to_coarse = true;
 
   void Check() const;  // InputError naming the option when out of range
 };
@@ -69,6 +72,7 @@ class WindowSchedule {
   int ShareEnd(int iteration, int a) const;
 
  private:
+  bool whole_scan_only_ = false;
   int LastWindow(int iteration) const;  // index of the window that reaches the end
   WindowOptions options_;
   std::vector<double> position_;  // frame index, or path

@@ -114,6 +114,24 @@ TEST(WindowSchedule, PolishIterationsComeLastAtFullSize) {
   EXPECT_TRUE(s.Full(6));
 }
 
+// The paper's ablation: as many iterations as the fine-to-coarse schedule, each with one
+// window holding the whole scan, so every pair shares a window from the first iteration.
+TEST(WindowSchedule, NoFineToCoarseIsTheWholeScanInEveryIteration) {
+  WindowOptions options;
+  options.initial_frames = 4;
+  const WindowSchedule growing(options, Straight(40, 0.1));
+  options.fine_to_coarse = false;
+  const WindowSchedule whole(options, Straight(40, 0.1));
+  EXPECT_EQ(whole.iterations(), growing.iterations());
+  EXPECT_GT(growing.Windows(0).size(), 1u);
+  for (int i = 0; i < whole.iterations(); ++i) {
+    EXPECT_TRUE(whole.Full(i));
+    ASSERT_EQ(Ranges(whole.Windows(i)), (std::vector<std::pair<int, int>>{{0, 40}})) << i;
+  }
+  EXPECT_EQ(whole.FirstShared(0, 39), 0);
+  EXPECT_GT(growing.FirstShared(0, 39), 0);
+}
+
 TEST(WindowOptions, BadValuesNameTheOption) {
   WindowOptions options;
   options.polish_iterations = 0;

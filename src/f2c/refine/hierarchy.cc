@@ -1,0 +1,214 @@
+#include "f2c/refine/hierarchy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <queue>
+#include <set>
+#include <tuple>
+
+#include "f2c/util/error.h"
+
+namespace f2c {
+
+void HierarchyOptions::Check() const {
+  if (!(max_distance > 0)) ThrowInputError("--coplanar-distance", "must be positive");
+  if (!(max_normal_angle > 0 && max_normal_angle < M_PI / 2)) {
+    ThrowInputError("--coplanar-angle", "must be in (0, 90) degrees");
+  }
+  if (!(premerge_fraction > 0 && premerge_fraction <= 1)) ThrowInputError("hierarchy.premerge_fraction", "must be in (0, 1]");
+}
+
+namespace {
+
+struct Cluster {
+  Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
+  Eigen::Vector3d centroid_sum = Eigen::Vector3d::Zero();
+  double weight = 0;
+  std::vector<int> members;
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  int version = 0;
+  bool alive = true;
+
+  void Add(const Cluster& other) {
+    normal_sum += other.normal_sum;
+    centroid_sum += other.centroid_sum;
+    weight += other.weight;
+    members.insert(members.end(), other.members.begin(), other.members.end());
+    Update();
+  }
+  void Update() {
+    normal = normal_sum.normalized();
+    centroid = centroid_sum / weight;
+  }
+};
+
+Cluster FromItem(const ClusterItem& item, int index) {
+  Cluster c;
+  c.normal_sum = item.weight * item.normal;
+  c.centroid_sum = item.weight * item.centroid;
+  c.weight = item.weight;
+  c.members = {index};
+  c.Update();
+  return c;
+}
+
+// The merge cost of two clusters, or infinity when they may not merge under the thresholds
+// scaled by `fraction`.
+double MergeCost(const Cluster& a, const Cluster& b, const HierarchyOptions& options, double fraction) {
+  const double max_angle = fraction * options.max_normal_angle;
+  const double max_distance = fraction * options.max_distance;
+  const double cosine = a.normal.dot(b.normal);
+  if (cosine < std::cos(max_angle)) return std::numeric_limits<double>::infinity();
+  const Eigen::Vector3d d = b.centroid - a.centroid;
+  const double distance = std::max(std::abs(a.normal.dot(d)), std::abs(b.normal.dot(d)));
+  if (distance > max_distance) return std::numeric_limits<double>::infinity();
+  return distance / max_distance + std::acos(std::min(1.0, cosine)) / max_angle;
+}
+
+}  // namespace
+
+std::vector<PlaneCluster> ClusterCoplanar(const std::vector<ClusterItem>& items, const HierarchyOptions& options) {
+  options.Check();
+  // First pass: largest first, each into the best agreeing cluster within the tighter
+  // thresholds, or a new one.
+  std::vector<int> order(items.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return items[a].weight > items[b].weight; });
+  std::vector<Cluster> clusters;
+  for (int i : order) {
+    const Cluster single = FromItem(items[i], i);
+    double best = std::numeric_limits<double>::infinity();
+    int best_k = -1;
+    for (int k = 0; k < static_cast<int>(clusters.size()); ++k) {
+      const double cost = MergeCost(clusters[k], single, options, options.premerge_fraction);
+      if (cost < best) best = cost, best_k = k;
+    }
+    if (best_k < 0) {
+      clusters.push_back(single);
+    } else {
+      clusters[best_k].Add(single);
+    }
+  }
+
+  // Agglomerative: the best-agreeing pair merges first, until none may.
+  using Candidate = std::tuple<double, int, int, int, int>;  // cost, a, b, versions of a and b
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue;
+  const int k = static_cast<int>(clusters.size());
+  for (int a = 0; a < k; ++a) {
+    for (int b = a + 1; b < k; ++b) {
+      const double cost = MergeCost(clusters[a], clusters[b], options, 1.0);
+      if (std::isfinite(cost)) queue.emplace(cost, a, b, 0, 0);
+    }
+  }
+  while (!queue.empty()) {
+    const auto [cost, a, b, va, vb] = queue.top();
+    queue.pop();
+    if (!clusters[a].alive || !clusters[b].alive || clusters[a].version != va || clusters[b].version != vb) continue;
+    clusters[a].Add(clusters[b]);
+    clusters[a].version++;
+    clusters[b].alive = false;
+    for (int c = 0; c < k; ++c) {
+      if (c == a || !clusters[c].alive) continue;
+      const double next = MergeCost(clusters[a], clusters[c], options, 1.0);
+      if (!std::isfinite(next)) continue;
+      if (c < a) {
+        queue.emplace(next, c, a, clusters[c].version, clusters[a].version);
+      } else {
+        queue.emplace(next, a, c, clusters[a].version, clusters[c].version);
+      }
+    }
+  }
+
+  std::vector<PlaneCluster> result;
+  for (Cluster& c : clusters) {
+    if (!c.alive) continue;
+    PlaneCluster p;
+    p.normal = c.normal;
+    p.centroid = c.centroid;
+    p.weight = c.weight;
+    p.members = std::move(c.members);
+    std::sort(p.members.begin(), p.members.end());
+    result.push_back(std::move(p));
+  }
+  std::sort(result.begin(), result.end(), [](const PlaneCluster& a, const PlaneCluster& b) {
+    if (a.weight != b.weight) return a.weight > b.weight;
+    return a.members.front() < b.members.front();
+  });
+  return result;
+}
+
+ProxyHierarchy BuildProxyHierarchy(const WindowSchedule& schedule, int iteration, const FeatureIndex& index,
+                                   const PoseVector& poses, const HierarchyOptions& options) {
+  options.Check();
+  ProxyHierarchy h;
+  StructureConstraints& s = h.structure;
+  const int n = static_cast<int>(index.frames.size());
+  F2C_CHECK(static_cast<int>(poses.size()) == n, "one pose per frame");
+  // Children, and where the current poses put them.
+  std::vector<int> first_child(n + 1, 0);
+  std::vector<ClusterItem> world;
+  for (int f = 0; f < n; ++f) {
+    first_child[f] = static_cast<int>(s.children.size());
+    const Rigid3d pose = poses[f].ToRigid();
+    for (const PlanarProxy& p : index.frames[f]->proxies) {
+      ChildProxy c;
+      c.frame = f;
+      c.normal = p.normal;
+      c.offset = p.offset;
+      c.centroid = p.centroid;
+      c.covariance = p.covariance;
+      c.share = static_cast<float>(p.inliers);
+      s.children.push_back(c);
+      ClusterItem item;
+      item.normal = (pose.linear() * p.normal.cast<double>()).normalized();
+      item.centroid = pose * p.centroid.cast<double>();
+      item.weight = p.inliers;
+      world.push_back(item);
+    }
+  }
+  first_child[n] = static_cast<int>(s.children.size());
+  h.child_parents.resize(s.children.size());
+
+  const std::vector<Window> windows = schedule.Windows(iteration);
+  h.window_parents.resize(windows.size());
+  for (size_t w = 0; w < windows.size(); ++w) {
+    const int begin = first_child[windows[w].begin], end = first_child[windows[w].end];
+    const std::vector<ClusterItem> items(world.begin() + begin, world.begin() + end);
+    for (const PlaneCluster& cluster : ClusterCoplanar(items, options)) {
+      const int parent = static_cast<int>(s.parents.size());
+      s.parents.push_back({cluster.normal, cluster.offset()});
+      h.parent_window.push_back(static_cast<int>(w));
+      h.window_parents[w].push_back(parent);
+      std::set<int> frames;
+      for (int m : cluster.members) {
+        const int child = begin + m;
+        s.links.push_back({child, parent, world[child].centroid, static_cast<float>(world[child].weight)});
+        h.child_parents[child].push_back(parent);
+        frames.insert(s.children[child].frame);
+      }
+      if (frames.size() >= 2) h.stats.parents_spanning_frames++;
+    }
+  }
+  h.stats.children = static_cast<int>(s.children.size());
+  h.stats.parents = static_cast<int>(s.parents.size());
+  h.stats.links = static_cast<int>(s.links.size());
+  return h;
+}
+
+nlohmann::json ToJson(const HierarchyOptions& o) {
+  return {{"max_distance", o.max_distance},
+          {"max_normal_angle_deg", o.max_normal_angle * 180 / M_PI},
+          {"premerge_fraction", o.premerge_fraction}};
+}
+
+nlohmann::json ToJson(const HierarchyStats& s) {
+  return {{"children", s.children},
+          {"parents", s.parents},
+          {"parents_spanning_frames", s.parents_spanning_frames},
+          {"links", s.links}};
+}
+
+}  // namespace f2c

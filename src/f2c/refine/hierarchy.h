@@ -1,0 +1,78 @@
+#pragma once
+// The structural model's proxy hierarchy (paper §4.2, "Creating Co-planarity Constraints"):
+// every per-image proxy is a child, placed in world coordinates by the current poses; in
+// every window of the iteration, the children of the window's frames are clustered into
+// coplanar sets by agglomerative hierarchical clustering, and each set becomes a parent proxy
+// tied to its children (E_H). Windows grow each iteration, so a wall seen from two rooms joins
+// one parent once a window holds both rooms.
+//
+// Clustering (ClusterCoplanar): two clusters may merge when their mean planes agree,
+//   angle(N_a, N_b) <= max_normal_angle,
+//   |N_a . (c_b - c_a)| <= max_distance and |N_b . (c_a - c_b)| <= max_distance,
+// (N: weighted mean normal, c: weighted centroid; weights are the proxies' inliers), and the
+// pair that agrees best merges first (cost: distance / max_distance + angle / max_angle,
+// the larger distance of the two), until no pair may. So that this stays near-linear in the
+// proxies, a first pass assigns proxies, largest first, to the best cluster that agrees within
+// premerge_fraction of both thresholds; the agglomerative merge then runs on those clusters.
+// Each frame is in at most two windows, so children, parents and links grow linearly.
+
+#include <Eigen/Core>
+#include <nlohmann/json_fwd.hpp>
+#include <vector>
+
+#include "f2c/optim/constraints.h"
+#include "f2c/optim/pose.h"
+#include "f2c/refine/feature_index.h"
+#include "f2c/refine/windows.h"
+
+namespace f2c {
+
+struct HierarchyOptions {
+  double max_distance = 0.3;                   // metres (the authors' code, DESIGN.md §2)
+  double max_normal_angle = 0.39269908169872414;  // radians, pi/8 (the authors' code)
+  double premerge_fraction = 0.5;              // of both thresholds, for the first pass
+
+  void Check() const;  // InputError naming the option when out of range
+};
+
+struct ClusterItem {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  double weight = 1;
+};
+
+struct PlaneCluster {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // weighted mean, unit
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // weighted mean
+  double weight = 0;
+  std::vector<int> members;  // item indices, ascending
+  double offset() const { return normal.dot(centroid); }
+};
+
+// Coplanar clusters of the items, heaviest first (ties: lowest member first). Deterministic.
+std::vector<PlaneCluster> ClusterCoplanar(const std::vector<ClusterItem>& items, const HierarchyOptions& options);
+
+struct HierarchyStats {
+  int children = 0;
+  int parents = 0;
+  int parents_spanning_frames = 0;  // parents whose children come from two or more frames
+  int links = 0;
+};
+
+struct ProxyHierarchy {
+  // Children (every kept proxy of every frame), parents (their world planes from the
+  // clustering) and links; relations are added by refine/relations.h.
+  StructureConstraints structure;
+  std::vector<int> parent_window;                 // the window each parent was clustered in
+  std::vector<std::vector<int>> window_parents;   // parents of each window
+  std::vector<std::vector<int>> child_parents;    // parents of each child (one per window)
+  HierarchyStats stats;
+};
+
+ProxyHierarchy BuildProxyHierarchy(const WindowSchedule& schedule, int iteration, const FeatureIndex& index,
+                                   const PoseVector& poses, const HierarchyOptions& options);
+
+nlohmann::json ToJson(const HierarchyOptions& options);
+nlohmann::json ToJson(const HierarchyStats& stats);
+
+}  // namespace f2c

@@ -1,0 +1,115 @@
+#include "f2c/refine/hierarchy.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace f2c {
+namespace {
+
+// Proxies sampled from known world planes: centroids spread over several metres of each
+// plane, normals tilted by up to 2 degrees, offsets off by up to 1 cm.
+std::vector<ClusterItem> SamplePlanes(const std::vector<std::pair<Eigen::Vector3d, double>>& planes, int per_plane,
+                                      std::vector<int>* truth) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<ClusterItem> items;
+  for (int k = 0; k < per_plane; ++k) {
+    for (size_t p = 0; p < planes.size(); ++p) {
+      const Eigen::Vector3d n = planes[p].first.normalized();
+      const Eigen::Vector3d a = n.unitOrthogonal(), b = n.cross(a);
+      ClusterItem item;
+      item.normal = (n + 0.035 * u(rng) * a + 0.035 * u(rng) * b).normalized();
+      item.centroid = planes[p].second * n + 2.5 * u(rng) * a + 1.2 * u(rng) * b + 0.01 * u(rng) * n;
+      item.weight = 20 + 10 * k % 7;
+      items.push_back(item);
+      truth->push_back(static_cast<int>(p));
+    }
+  }
+  return items;
+}
+
+TEST(ClusterCoplanar, ProxiesOfKnownPlanesGiveExactlyThosePlanes) {
+  // A floor, two walls at right angles, and the ceiling facing down.
+  const std::vector<std::pair<Eigen::Vector3d, double>> planes = {
+      {{0, 0, 1}, 0.0}, {{-1, 0, 0}, -2.0}, {{0, -1, 0}, -3.0}, {{0, 0, -1}, -2.6}};
+  std::vector<int> truth;
+  const std::vector<ClusterItem> items = SamplePlanes(planes, 12, &truth);
+  const std::vector<PlaneCluster> clusters = ClusterCoplanar(items, HierarchyOptions());
+  ASSERT_EQ(clusters.size(), planes.size());
+  for (const PlaneCluster& c : clusters) {
+    ASSERT_EQ(c.members.size(), 12u);
+    const int p = truth[c.members[0]];
+    for (int m : c.members) EXPECT_EQ(truth[m], p);
+    EXPECT_GT(c.normal.dot(planes[p].first.normalized()), std::cos(1.0 * M_PI / 180));
+    EXPECT_NEAR(c.offset(), planes[p].second, 0.01);
+  }
+}
+
+TEST(ClusterCoplanar, ParallelWallsApartAreMergedOnlyWithinTheDistanceThreshold) {
+  // Two parallel walls 0.2 m apart, 3 m from the origin.
+  const std::vector<std::pair<Eigen::Vector3d, double>> planes = {{{-1, 0, 0}, -3.0}, {{-1, 0, 0}, -3.2}};
+  std::vector<int> truth;
+  const std::vector<ClusterItem> items = SamplePlanes(planes, 8, &truth);
+  HierarchyOptions options;
+  options.max_distance = 0.1;
+  const std::vector<PlaneCluster> apart = ClusterCoplanar(items, options);
+  ASSERT_EQ(apart.size(), 2u);
+  for (const PlaneCluster& c : apart) {
+    for (int m : c.members) EXPECT_EQ(truth[m], truth[c.members[0]]);
+  }
+  options.max_distance = 0.3;  // the authors' threshold: one plane
+  EXPECT_EQ(ClusterCoplanar(items, options).size(), 1u);
+  // Normals 30 degrees apart never merge under pi/8, however close.
+  std::vector<ClusterItem> tilted = {items[0], items[0]};
+  tilted[1].normal = Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d::UnitZ()) * tilted[1].normal;
+  EXPECT_EQ(ClusterCoplanar(tilted, HierarchyOptions()).size(), 2u);
+}
+
+// Four frames see the same wall; windows of 2 frames overlap by one: three windows, one
+// parent each, every child linked to the parent of each window it is in.
+TEST(BuildProxyHierarchy, OneParentPerWindowAndALinkPerChildAndWindow) {
+  FeatureIndex index;
+  PoseVector poses;
+  for (int f = 0; f < 4; ++f) {
+    Pose pose;
+    pose.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.1 * f, Eigen::Vector3d::UnitY()));
+    pose.translation = Eigen::Vector3d(0.2 * f, 0, 0);
+    poses.push_back(pose);
+    // The wall z = 3 (normal towards the cameras: -z), in this camera's coordinates.
+    const Rigid3d camera_from_world = pose.ToRigid().inverse();
+    PlanarProxy p;
+    p.normal = (camera_from_world.linear() * Eigen::Vector3d(0, 0, -1)).cast<float>();
+    p.centroid = (camera_from_world * Eigen::Vector3d(0.2 * f, 0.1, 3)).cast<float>();
+    p.offset = p.normal.dot(p.centroid);
+    p.covariance = Eigen::Vector3f(0.1f, 0.1f, 0).asDiagonal();
+    p.inliers = 50 + f;
+    auto frame = std::make_unique<FrameIndex>();
+    frame->proxies.push_back(p);
+    index.frames.push_back(std::move(frame));
+  }
+  WindowOptions w;
+  w.initial_frames = 2;
+  const WindowSchedule schedule(w, std::vector<double>(4, 0.0));
+  const ProxyHierarchy h = BuildProxyHierarchy(schedule, 0, index, poses, HierarchyOptions());
+  ASSERT_EQ(schedule.Windows(0).size(), 3u);
+  EXPECT_EQ(h.stats.children, 4);
+  EXPECT_EQ(h.stats.parents, 3);
+  EXPECT_EQ(h.stats.parents_spanning_frames, 3);
+  EXPECT_EQ(h.stats.links, 6);
+  const std::vector<size_t> per_child = {1, 2, 2, 1};
+  for (int c = 0; c < 4; ++c) EXPECT_EQ(h.child_parents[c].size(), per_child[c]) << c;
+  for (const PlaneEstimate& p : h.structure.parents) {
+    EXPECT_NEAR(p.normal.z(), -1, 1e-6);
+    EXPECT_NEAR(p.offset, -3, 1e-6);
+  }
+  for (const CoplanarLink& l : h.structure.links) EXPECT_NEAR(l.anchor.z(), 3, 1e-6);
+  // The whole scan in one window: one parent of four children.
+  const ProxyHierarchy full = BuildProxyHierarchy(schedule, schedule.iterations() - 1, index, poses, HierarchyOptions());
+  EXPECT_EQ(full.stats.parents, 1);
+  EXPECT_EQ(full.stats.links, 4);
+}
+
+}  // namespace
+}  // namespace f2c

@@ -1,0 +1,132 @@
+#include "f2c/refine/relations.h"
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <unordered_map>
+
+#include "f2c/util/error.h"
+
+namespace f2c {
+
+void RelationOptions::Check() const {
+  if (!(sigma > 0)) ThrowInputError("--relation-sigma", "must be positive");
+  if (!(max_angle > 0 && max_angle < M_PI / 4)) ThrowInputError("--relation-max-angle", "must be in (0, 45) degrees");
+  if (!(min_weight >= 0 && min_weight < 1)) ThrowInputError("--relation-min-weight", "must be in [0, 1)");
+  if (!(covisible_tolerance >= 0)) ThrowInputError("--relation-covisible-tolerance", "must be >= 0");
+}
+
+bool ClassifyRelation(double theta, const RelationOptions& options, RelationType* type, double* weight) {
+  const double targets[kRelationTypeCount] = {0.0, M_PI, M_PI / 2};
+  const RelationType types[kRelationTypeCount] = {RelationType::kParallel, RelationType::kAntiparallel,
+                                                  RelationType::kOrthogonal};
+  int best = 0;
+  for (int k = 1; k < kRelationTypeCount; ++k) {
+    if (std::abs(theta - targets[k]) < std::abs(theta - targets[best])) best = k;
+  }
+  const double off = theta - targets[best];
+  const double w = std::exp(-off * off / (2 * options.sigma * options.sigma));
+  if (std::abs(off) > options.max_angle || w <= options.min_weight) return false;
+  *type = types[best];
+  *weight = w;
+  return true;
+}
+
+namespace {
+
+double TargetAngle(RelationType type) {
+  switch (type) {
+    case RelationType::kParallel: return 0;
+    case RelationType::kAntiparallel: return M_PI;
+    case RelationType::kOrthogonal: return M_PI / 2;
+  }
+  return 0;
+}
+
+uint64_t PairKey(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<uint64_t>(a) << 32) | static_cast<uint32_t>(b);
+}
+
+}  // namespace
+
+std::vector<PlaneRelation> DetectRelations(const ProxyHierarchy& h, const RelationOptions& options,
+                                           RelationStats* stats) {
+  options.Check();
+  const StructureConstraints& s = h.structure;
+  // In-image angles between parents that one frame sees both of: inlier-weighted sums.
+  std::unordered_map<uint64_t, std::pair<double, double>> seen_together;
+  if (options.covisible_tolerance > 0) {
+    int child = 0;
+    const int children = static_cast<int>(s.children.size());
+    while (child < children) {
+      int end = child;
+      while (end < children && s.children[end].frame == s.children[child].frame) ++end;
+      for (int a = child; a < end; ++a) {
+        for (int b = a; b < end; ++b) {
+          const double w = std::min(s.children[a].share, s.children[b].share);
+          const double angle = std::acos(std::clamp<double>(s.children[a].normal.dot(s.children[b].normal), -1, 1));
+          for (int pa : h.child_parents[a]) {
+            for (int pb : h.child_parents[b]) {
+              if (pa == pb) continue;
+              auto& [sum, weight] = seen_together[PairKey(pa, pb)];
+              sum += w * angle;
+              weight += w;
+            }
+          }
+        }
+      }
+      child = end;
+    }
+  }
+
+  RelationStats local;
+  std::vector<PlaneRelation> relations;
+  auto consider = [&](int a, int b) {
+    const double cosine = std::clamp(s.parents[a].normal.dot(s.parents[b].normal), -1.0, 1.0);
+    RelationType type;
+    double weight;
+    if (!ClassifyRelation(std::acos(cosine), options, &type, &weight)) return;
+    if (options.covisible_tolerance > 0) {
+      const auto it = seen_together.find(PairKey(a, b));
+      if (it != seen_together.end() &&
+          std::abs(it->second.first / it->second.second - TargetAngle(type)) > options.covisible_tolerance) {
+        local.dropped_covisible++;
+        return;
+      }
+    }
+    relations.push_back({a, b, type, static_cast<float>(weight)});
+    local.by_type[static_cast<int>(type)]++;
+  };
+  const int windows = static_cast<int>(h.window_parents.size());
+  for (int w = 0; w < windows; ++w) {
+    const std::vector<int>& here = h.window_parents[w];
+    for (size_t i = 0; i < here.size(); ++i) {
+      for (size_t j = i + 1; j < here.size(); ++j) consider(here[i], here[j]);
+    }
+    if (options.adjacent_windows && w + 1 < windows) {
+      for (int a : here) {
+        for (int b : h.window_parents[w + 1]) consider(a, b);
+      }
+    }
+  }
+  if (stats) *stats = local;
+  return relations;
+}
+
+nlohmann::json ToJson(const RelationOptions& o) {
+  return {{"sigma_deg", o.sigma * 180 / M_PI},
+          {"max_angle_deg", o.max_angle * 180 / M_PI},
+          {"min_weight", o.min_weight},
+          {"adjacent_windows", o.adjacent_windows},
+          {"covisible_tolerance_deg", o.covisible_tolerance * 180 / M_PI}};
+}
+
+nlohmann::json ToJson(const RelationStats& s) {
+  return {{"parallel", s.by_type[0]},
+          {"antiparallel", s.by_type[1]},
+          {"orthogonal", s.by_type[2]},
+          {"dropped_covisible", s.dropped_covisible}};
+}
+
+}  // namespace f2c

@@ -1,0 +1,53 @@
+#pragma once
+// The structural model's relations E_G (paper §4.2, "Creating Planar Relationship
+// Constraints"): between every two parent proxies of the same or of adjacent windows, the
+// angle theta between their normals picks the nearest of parallel (0), orthogonal (pi/2) and
+// antiparallel (pi), with weight
+//   w_ab = exp(-(theta - theta_0)^2 / (2 sigma^2)),
+// kept when |theta - theta_0| <= max_angle and w_ab > min_weight (the authors: sigma 7.5 deg,
+// 0.15 pi, 0.1; DESIGN.md §2). The weight lets a relation guide where it is nearly met and
+// fade where it is not.
+//
+// Beyond the paper, relations do not pull where an image measured otherwise: when a frame
+// sees children of both parents, the angle between those children in that image (one rigid
+// depth image, so no pose enters it) is evidence of the true angle. A relation whose
+// inlier-weighted mean in-image angle is farther than covisible_tolerance from theta_0 is
+// dropped: two walls at 80 degrees that one image shows together stay at 80 degrees however
+// tempting 90 is. Relations between parents never seen together (the ones that straighten
+// drift across rooms) are kept as the paper has them.
+
+#include <nlohmann/json_fwd.hpp>
+#include <vector>
+
+#include "f2c/optim/constraints.h"
+#include "f2c/refine/hierarchy.h"
+
+namespace f2c {
+
+struct RelationOptions {
+  double sigma = 0.1308996938995747;        // radians, 7.5 deg
+  double max_angle = 0.47123889803846897;   // radians, 0.15 pi
+  double min_weight = 0.1;
+  bool adjacent_windows = true;             // also between parents of windows j and j + 1
+  double covisible_tolerance = 0.05235987755982988;  // radians, 3 deg; 0: no check
+
+  void Check() const;  // InputError naming the option when out of range
+};
+
+// The relation for normals at angle theta (radians, [0, pi]): false when none is admitted.
+bool ClassifyRelation(double theta, const RelationOptions& options, RelationType* type, double* weight);
+
+struct RelationStats {
+  int by_type[kRelationTypeCount] = {};
+  int dropped_covisible = 0;  // admitted by angle, refused by an image that sees both
+  int total() const { return by_type[0] + by_type[1] + by_type[2]; }
+};
+
+// Relations between the hierarchy's parents (by their clustered planes).
+std::vector<PlaneRelation> DetectRelations(const ProxyHierarchy& hierarchy, const RelationOptions& options,
+                                           RelationStats* stats = nullptr);
+
+nlohmann::json ToJson(const RelationOptions& options);
+nlohmann::json ToJson(const RelationStats& stats);
+
+}  // namespace f2c
