@@ -111,6 +111,10 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
   cmd->add_flag("!--no-adjacent-relations", o->relations.adjacent_windows,
                 "relations within a window only (default: also between adjacent windows)")
       ->group(st);
+  add(st, "--relations-per-parent", &o->relations.max_per_parent,
+      "each parent keeps its strongest relations to at most this many others (0: all, as the paper)");
+  add(st, "--plane-presolve-iterations", &o->solver.plane_presolve_iterations,
+      "one-step solves: iterations on the planes alone before the joint step (0: off)");
   add(st, "--relation-covisible-tolerance", &names->covisible,
       "drop a relation when images that see both parents measure their angle farther than this from it (deg; 0: off)");
 

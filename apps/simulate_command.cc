@@ -65,7 +65,7 @@ Subcommand AddSimulateCommand(CLI::App* app) {
   auto args = std::make_shared<SimulateArgs>();
   CLI::App* cmd = app->add_subcommand(
       "simulate", "render a synthetic multi-room RGB-D scan with exact ground truth (TUM layout)");
-  cmd->add_option("--scene", args->scene, "two-rooms, apartment or corridor")->capture_default_str();
+  cmd->add_option("--scene", args->scene, "two-rooms, apartment (its living room a trapezoid, side walls 14 deg off square), apartment-square (the same at 6 deg) or corridor")->capture_default_str();
   cmd->add_option("--frames", args->frames, "frames at 30 Hz")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--seed", args->seed, "furniture, walk and noise")->capture_default_str();
   cmd->add_option("-o,--output", args->output, "output folder")->required();

@@ -237,7 +237,7 @@ TEST(Cli, SimulateWritesAReadableScanAndDemoEvaluatesIt) {
   EXPECT_NE(info.output.find("ground truth 4 poses"), std::string::npos) << info.output;
   const Result bad = RunCli("simulate --scene castle --frames 4 -o " + (dir / "x").string());
   EXPECT_EQ(bad.code, 1);
-  EXPECT_EQ(bad.output, "error: --scene: unknown scene 'castle' (expected two-rooms, apartment or corridor)\n");
+  EXPECT_EQ(bad.output, "error: --scene: unknown scene 'castle' (expected two-rooms, apartment, apartment-square or corridor)\n");
   const Result demo = RunCli("demo --frames 12 -o " + (dir / "demo").string());
   ASSERT_EQ(demo.code, 0) << demo.output;
   EXPECT_NE(demo.output.find("12 of 12 poses associated"), std::string::npos) << demo.output;

@@ -227,6 +227,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   const StructureConstraints& structure = constraints.structure;
   std::vector<PlaneVariable> children(structure.children.size()), parents(structure.parents.size());
   const bool use_structure = !structure.empty() && options.weight_proxy > 0;
+  std::vector<Eigen::Vector3d> parent_anchors;
   if (use_structure) {
     double sum_p = 0;
     for (const ChildProxy& c : structure.children) sum_p += c.share;
@@ -246,6 +247,20 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       parents[i].normal = structure.parents[i].normal.normalized();
       parents[i].offset = structure.parents[i].offset;
       pp.AddPlane(&parents[i]);
+    }
+    // Where each parent is: the mean of its children's anchors, along the plane (E_I).
+    std::vector<Eigen::Vector3d> sums(parents.size(), Eigen::Vector3d::Zero());
+    std::vector<int> counts(parents.size(), 0);
+    for (const CoplanarLink& l : structure.links) {
+      if (l.parent < 0 || l.parent >= static_cast<int>(parents.size())) continue;
+      sums[l.parent] += l.anchor;
+      counts[l.parent]++;
+    }
+    parent_anchors.resize(parents.size(), Eigen::Vector3d::Zero());
+    for (size_t i = 0; i < parents.size(); ++i) {
+      if (counts[i] == 0) continue;
+      const Eigen::Vector3d mean = sums[i] / counts[i];
+      parent_anchors[i] = mean - parents[i].normal.dot(mean) * parents[i].normal;  // in-plane part
     }
     // E_H: w_H v / sum(v) per link.
     double sum_h = 0;
@@ -286,13 +301,15 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
              PoseChangeCost::Create(previous[i].rotation, previous[i].translation, s, s * options.rotation_lever_arm),
              nullptr, {p.rotation_data(), p.translation_data()});
     }
-    if (use_structure) {
-      const double sp = std::sqrt(options.weight_inertia / static_cast<double>(children.size() + parents.size()));
-      for (auto* planes : {&children, &parents}) {
-        for (PlaneVariable& v : *planes) {
-          pp.Add(kTermI, PlaneChangeCost::Create(v.normal, v.offset, sp * options.rotation_lever_arm, sp), nullptr,
-                 {v.normal.data(), &v.offset});
-        }
+    if (use_structure && !parents.empty()) {
+      // Parents only: children follow their frames through E_P (an inertia of their own
+      // would hold the frames back).
+      const double sp = std::sqrt(options.weight_inertia / static_cast<double>(parents.size()));
+      for (size_t i = 0; i < parents.size(); ++i) {
+        PlaneVariable& v = parents[i];
+        const Eigen::Vector3d anchor = v.offset * v.normal + parent_anchors[i];
+        pp.Add(kTermI, PlaneChangeCost::Create(v.normal, anchor, sp * options.rotation_lever_arm, sp), nullptr,
+               {v.normal.data(), &v.offset});
       }
     }
   }

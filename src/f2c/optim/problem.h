@@ -37,7 +37,10 @@ struct SolverOptions {
   // E_H 1500 -> 1000 over the iterations. Measured choices in BENCHMARKS.md.
   double weight_proxy = 1000;
   double weight_coplanarity = 1000;
-  double weight_relation = 1000;
+  // E_G is weak by default: measured, a strong E_G (1000) pulls surfaces that are only nearly
+  // square or parallel (furniture, the trapezoid room) and bends the scan more than it
+  // straightens it (BENCHMARKS.md).
+  double weight_relation = 10;
   // Cauchy scale of E_L's residuals (metres; rotations at the lever arm); 0: plain least
   // squares. An odometry pair can be wrong outright (ICP turning freely along a plain wall):
   // with least squares, loops spread such an error over every pair; a robust E_L lets it
@@ -56,7 +59,7 @@ struct SolverOptions {
   bool one_step = true;
   // One-step mode with the structural model: the planes alone (poses held) are first solved
   // for up to this many iterations, so the joint step starts from planes in balance (0: off).
-  int plane_presolve_iterations = 10;
+  int plane_presolve_iterations = 3;
   double function_tolerance = 1e-6;
   // The linear solver: sparse Cholesky (SuiteSparse), exact; or conjugate gradients on the
   // normal equations with a block-Jacobi preconditioner, whose memory grows with the

@@ -123,24 +123,27 @@ struct OrthogonalCost {
 };
 
 // E_I for a plane (the paper's E_I sums pose and plane changes): its change in this
-// iteration, r = (s_n (n - n_0), s_d (d - d_0)).
+// iteration, measured where the plane is (at `anchor`, a point of the plane at the start, so
+// that the offset's change does not grow with the distance from the world origin):
+//   r = (s_n (n - n_0), s_d (n . anchor - d))
 struct PlaneChangeCost {
-  PlaneChangeCost(const Eigen::Vector3d& normal, double offset, double s_normal, double s_offset)
-      : normal_(normal), offset_(offset), s_n_(s_normal), s_d_(s_offset) {}
+  PlaneChangeCost(const Eigen::Vector3d& normal, const Eigen::Vector3d& anchor, double s_normal, double s_offset)
+      : normal_(normal), anchor_(anchor), s_n_(s_normal), s_d_(s_offset) {}
   template <typename T>
   bool operator()(const T* normal, const T* offset, T* residual) const {
     for (int i = 0; i < 3; ++i) residual[i] = T(s_n_) * (normal[i] - T(normal_[i]));
-    residual[3] = T(s_d_) * (offset[0] - T(offset_));
+    residual[3] = T(s_d_) * (normal[0] * T(anchor_[0]) + normal[1] * T(anchor_[1]) + normal[2] * T(anchor_[2]) - offset[0]);
     return true;
   }
-  static ceres::CostFunction* Create(const Eigen::Vector3d& normal, double offset, double s_normal, double s_offset) {
+  static ceres::CostFunction* Create(const Eigen::Vector3d& normal, const Eigen::Vector3d& anchor, double s_normal,
+                                     double s_offset) {
     return new ceres::AutoDiffCostFunction<PlaneChangeCost, 4, 3, 1>(
-        new PlaneChangeCost(normal, offset, s_normal, s_offset));
+        new PlaneChangeCost(normal, anchor, s_normal, s_offset));
   }
 
  private:
-  Eigen::Vector3d normal_;
-  double offset_, s_n_, s_d_;
+  Eigen::Vector3d normal_, anchor_;
+  double s_n_, s_d_;
 };
 
 }  // namespace f2c

@@ -136,18 +136,19 @@ TEST_F(StructureCosts, RelationsVanishWhenMetAndAreHandComputedOtherwise) {
   }
 }
 
-TEST_F(StructureCosts, PlaneChangeVanishesAtThePreviousPlaneAndMeasuresTheChange) {
+TEST_F(StructureCosts, PlaneChangeVanishesAtThePreviousPlaneAndMeasuresTheChangeAtTheAnchor) {
   const Eigen::Vector3d n0 = Eigen::Vector3d(1, 2, 2) / 3;
+  const Eigen::Vector3d anchor = 0.5 * n0 + Eigen::Vector3d(2, -1, 0);  // on n0 . x = 0.5
   Eigen::Vector3d n = n0;
-  double d = 0.5;
-  std::unique_ptr<ceres::CostFunction> cost(PlaneChangeCost::Create(n0, 0.5, 2.0, 3.0));
+  double d = n0.dot(anchor);
+  std::unique_ptr<ceres::CostFunction> cost(PlaneChangeCost::Create(n0, anchor, 2.0, 3.0));
   std::vector<double*> blocks = {n.data(), &d};
   for (double r : Residuals(*cost, blocks)) EXPECT_NEAR(r, 0, 1e-15);
   n = Eigen::Vector3d(0, 0, 1);
   d = 0.6;
   const std::vector<double> r = Residuals(*cost, blocks);
   EXPECT_NEAR(r[2], 2 * (1 - 2.0 / 3), 1e-15);
-  EXPECT_NEAR(r[3], 3 * 0.1, 1e-12);
+  EXPECT_NEAR(r[3], 3 * (anchor.z() - 0.6), 1e-12);  // the anchor's distance from the new plane
   ExpectJacobiansMatch(*cost, blocks, {&sphere_, nullptr});
 }
 

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "f2c/eval/correspondence_error.h"
+#include "f2c/eval/trajectory_error.h"
 #include "f2c/sim/render.h"
 #include "f2c/sim/simulate.h"
 #include "f2c/sim/walk.h"
@@ -155,6 +156,44 @@ TEST_F(RefineOnAWalk, FindsTheLoop) {
   const double after = CorrespondenceRmse(*truth_pairs_, r.poses);
   EXPECT_GT(before, 0.2);
   EXPECT_LT(after, before / 5) << "T0 " << before << " m, refined " << after << " m";
+}
+
+Trajectory ToTrajectory(const Trajectory& like, const PoseVector& poses) {
+  Trajectory t;
+  for (size_t k = 0; k < poses.size(); ++k) t.Add(like.timestamps[k], poses[k].ToRigid());
+  return t;
+}
+
+// T0 turns steadily about the vertical (0.04 deg per pair, about 12 deg over the walk) and
+// also tilts a little: rotation drift. The structural model (walls and floor held coplanar,
+// parallel and orthogonal across the rooms) takes the worst rotation drift between frames 5 s apart
+// and its RMS down by more than a quarter against --no-structure: the test fails if the
+// structural model does nothing (E_P alone leaves the poses exactly as without it).
+TEST_F(RefineOnAWalk, StructureStraightensRotationDrift) {
+  Rigid3d error = Rigid3d::Identity();
+  error.linear() = (Eigen::AngleAxisd(0.04 * M_PI / 180, Eigen::Vector3d::UnitY()) *
+                    Eigen::AngleAxisd(0.01 * M_PI / 180, Eigen::Vector3d::UnitX()))
+                       .toRotationMatrix();
+  const std::vector<PairAlignment> pairs = DriftingPairs(scan_->truth, error);
+  const Trajectory t0 = Chain(scan_->truth, pairs);
+  RefineOptions options;
+  const FeatureIndex index = BuildFeatureIndex(scan_->features, options.features);
+  RefineRun run;
+  run.quiet = true;
+  const RotationDrift before = ComputeRotationDrift(t0, scan_->truth);
+  const RefineResult with = RefineFineToCoarse(index, pairs, t0, scan_->intrinsics, options, run);
+  options.structure = false;
+  const RefineResult without = RefineFineToCoarse(index, pairs, t0, scan_->intrinsics, options, run);
+  const RotationDrift on = ComputeRotationDrift(ToTrajectory(t0, with.poses), scan_->truth);
+  const RotationDrift off = ComputeRotationDrift(ToTrajectory(t0, without.poses), scan_->truth);
+  EXPECT_GT(before.rotation.max, 10.0);
+  // Measured: structure 1.40 / 0.157 deg, without 2.66 / 0.287 deg (the 0.5 deg worst
+  // is not reached yet: BENCHMARKS.md).
+  EXPECT_LT(on.rotation.max, 0.75 * off.rotation.max) << "on " << on.rotation.max << ", off " << off.rotation.max;
+  EXPECT_LT(on.rotation.rmse, 0.75 * off.rotation.rmse) << "on " << on.rotation.rmse << ", off " << off.rotation.rmse;
+  std::printf("rotation drift worst / RMS (deg): T0 %.2f / %.2f, structure %.3f / %.3f, no structure %.3f / %.3f\n",
+              before.rotation.max, before.rotation.rmse, on.rotation.max, on.rotation.rmse, off.rotation.max,
+              off.rotation.rmse);
 }
 
 // Same input, 1 or 2 threads: the same bits.

@@ -14,6 +14,7 @@ void RelationOptions::Check() const {
   if (!(max_angle > 0 && max_angle < M_PI / 4)) ThrowInputError("--relation-max-angle", "must be in (0, 45) degrees");
   if (!(min_weight >= 0 && min_weight < 1)) ThrowInputError("--relation-min-weight", "must be in [0, 1)");
   if (!(covisible_tolerance >= 0)) ThrowInputError("--relation-covisible-tolerance", "must be >= 0");
+  if (max_per_parent < 0) ThrowInputError("--relations-per-parent", "must be >= 0");
 }
 
 bool ClassifyRelation(double theta, const RelationOptions& options, RelationType* type, double* weight) {
@@ -110,6 +111,31 @@ std::vector<PlaneRelation> DetectRelations(const ProxyHierarchy& h, const Relati
       }
     }
   }
+  if (options.max_per_parent > 0) {
+    // Parents' support: the inliers of their children.
+    std::vector<double> support(s.parents.size(), 0.0);
+    for (const CoplanarLink& l : s.links) support[l.parent] += s.children[l.child].share;
+    std::vector<std::pair<double, int>> order;
+    for (size_t i = 0; i < relations.size(); ++i) {
+      const PlaneRelation& r = relations[i];
+      order.push_back({-r.weight * std::min(support[r.parent_a], support[r.parent_b]), static_cast<int>(i)});
+    }
+    std::sort(order.begin(), order.end());
+    std::vector<int> count(s.parents.size(), 0);
+    std::vector<PlaneRelation> kept;
+    for (const auto& [score, i] : order) {
+      const PlaneRelation& r = relations[i];
+      if (count[r.parent_a] >= options.max_per_parent || count[r.parent_b] >= options.max_per_parent) {
+        local.dropped_cap++;
+        local.by_type[static_cast<int>(r.type)]--;
+        continue;
+      }
+      count[r.parent_a]++;
+      count[r.parent_b]++;
+      kept.push_back(r);
+    }
+    relations = std::move(kept);
+  }
   if (stats) *stats = local;
   return relations;
 }
@@ -119,14 +145,16 @@ nlohmann::json ToJson(const RelationOptions& o) {
           {"max_angle_deg", o.max_angle * 180 / M_PI},
           {"min_weight", o.min_weight},
           {"adjacent_windows", o.adjacent_windows},
-          {"covisible_tolerance_deg", o.covisible_tolerance * 180 / M_PI}};
+          {"covisible_tolerance_deg", o.covisible_tolerance * 180 / M_PI},
+          {"max_per_parent", o.max_per_parent}};
 }
 
 nlohmann::json ToJson(const RelationStats& s) {
   return {{"parallel", s.by_type[0]},
           {"antiparallel", s.by_type[1]},
           {"orthogonal", s.by_type[2]},
-          {"dropped_covisible", s.dropped_covisible}};
+          {"dropped_covisible", s.dropped_covisible},
+          {"dropped_cap", s.dropped_cap}};
 }
 
 }  // namespace f2c

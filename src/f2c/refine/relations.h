@@ -30,6 +30,10 @@ struct RelationOptions {
   double min_weight = 0.1;
   bool adjacent_windows = true;             // also between parents of windows j and j + 1
   double covisible_tolerance = 0.05235987755982988;  // radians, 3 deg; 0: no check
+  // Beyond the paper: each parent keeps its relations to at most this many partners, the
+  // strongest first (w_ab times the smaller parent's inliers); 0: all, as the paper. All
+  // pairs grow as the square of the parents in a window, and late windows hold hundreds.
+  int max_per_parent = 8;
 
   void Check() const;  // InputError naming the option when out of range
 };
@@ -40,6 +44,7 @@ bool ClassifyRelation(double theta, const RelationOptions& options, RelationType
 struct RelationStats {
   int by_type[kRelationTypeCount] = {};
   int dropped_covisible = 0;  // admitted by angle, refused by an image that sees both
+  int dropped_cap = 0;        // admitted, beyond max_per_parent
   int total() const { return by_type[0] + by_type[1] + by_type[2]; }
 };
 
