@@ -92,9 +92,13 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
   add(e, "--refine-seed", &o->correspondences.seed, "seed of the correspondence sampling");
 
   const std::string st = "Refinement: planar structure (paper 4.2-4.3)";
-  cmd->add_flag("!--no-structure", o->structure, "the paper's ablation: no E_P, E_H, E_G")->group(st);
+  cmd->add_flag("--structure,!--no-structure", o->structure,
+                "the planar structural model E_P, E_H, E_G (default off for now, BENCHMARKS.md; --no-structure: the paper's ablation)")
+      ->default_str(o->structure ? "true" : "false")
+      ->group(st);
   add(st, "--weight-proxy", &o->solver.weight_proxy, "w_P, E_P's total weight (children fit their images)");
   add(st, "--weight-coplanarity", &o->solver.weight_coplanarity, "w_H, E_H's total weight (children coplanar with parents)");
+  add(st, "--coplanarity-loss-scale", &o->solver.coplanarity_loss_scale, "Cauchy scale of E_H (m; 0: least squares)");
   add(st, "--weight-relation", &o->solver.weight_relation, "w_G, E_G's total weight (parallel/antiparallel/orthogonal parents)");
   add(st, "--weight-proxy-initial", &o->weight_proxy_initial, "w_P in the first iteration, linear to --weight-proxy; < 0: constant");
   add(st, "--weight-coplanarity-initial", &o->weight_coplanarity_initial, "w_H in the first iteration; < 0: constant");

@@ -61,7 +61,8 @@ struct ChildProxy {
 
 struct PlaneEstimate {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // world coordinates, unit
-  double offset = 0;
+  double offset = 0;                                  // the plane {x : normal . x = offset}
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();   // a point near the plane's middle
 };
 
 struct CoplanarLink {

@@ -29,6 +29,7 @@ void SolverOptions::Check() const {
   non_negative(weight_relation, "--weight-relation");
   if (!(match_loss_scale > 0)) ThrowInputError("--match-loss-scale", "must be positive");
   if (!(local_loss_scale >= 0)) ThrowInputError("--local-loss-scale", "must be >= 0");
+  if (!(coplanarity_loss_scale >= 0)) ThrowInputError("--coplanarity-loss-scale", "must be >= 0");
   if (!(rotation_lever_arm > 0)) ThrowInputError("--rotation-lever-arm", "must be positive");
   if (!(loss_scale > 0)) ThrowInputError("--loss-scale", "must be positive");
   if (max_iterations < 1) ThrowInputError("--solver-iterations", "must be >= 1");
@@ -48,10 +49,13 @@ constexpr const char* kTermP = "E_P";
 constexpr const char* kTermH = "E_H";
 constexpr const char* kTermG = "E_G";
 
-// A plane variable: its normal and offset blocks.
+// A plane variable: its normal and offset blocks; the offset is from `reference` (optim/
+// structure_costs.h): {x : normal . (x - reference) = offset}.
 struct PlaneVariable {
   Eigen::Vector3d normal;
   double offset = 0;
+  Eigen::Vector3d reference = Eigen::Vector3d::Zero();
+  double D() const { return normal.dot(reference) + offset; }  // the offset from the origin
 };
 
 std::unique_ptr<ceres::LossFunction> MakeLoss(RobustLoss loss, double scale, double weight) {
@@ -227,7 +231,6 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   const StructureConstraints& structure = constraints.structure;
   std::vector<PlaneVariable> children(structure.children.size()), parents(structure.parents.size());
   const bool use_structure = !structure.empty() && options.weight_proxy > 0;
-  std::vector<Eigen::Vector3d> parent_anchors;
   if (use_structure) {
     double sum_p = 0;
     for (const ChildProxy& c : structure.children) sum_p += c.share;
@@ -236,31 +239,21 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       F2C_CHECK(c.frame >= 0 && c.frame < n, "child proxy frame in range");
       Pose& pose = (*poses)[c.frame];
       children[i].normal = (pose.rotation * c.normal.cast<double>()).normalized();
-      children[i].offset = c.offset + children[i].normal.dot(pose.translation);
+      children[i].reference = pose.rotation * c.centroid.cast<double>() + pose.translation;
+      children[i].offset = c.offset + children[i].normal.dot(pose.translation) - children[i].normal.dot(children[i].reference);
       pp.AddPlane(&children[i]);
       // E_P: w_P m_j / sum(m) times the members' mean squared distance.
       const double s = std::sqrt(options.weight_proxy * c.share / sum_p);
-      pp.Add(kTermP, ProxyFitCost::Create(c.centroid.cast<double>(), s * SqrtCovariance(c.covariance.cast<double>())),
+      pp.Add(kTermP,
+             ProxyFitCost::Create(c.centroid.cast<double>(), s * SqrtCovariance(c.covariance.cast<double>()),
+                                  children[i].reference),
              nullptr, {pose.rotation_data(), pose.translation_data(), children[i].normal.data(), &children[i].offset});
     }
     for (size_t i = 0; i < parents.size(); ++i) {
       parents[i].normal = structure.parents[i].normal.normalized();
-      parents[i].offset = structure.parents[i].offset;
+      parents[i].reference = structure.parents[i].centre;
+      parents[i].offset = structure.parents[i].offset - parents[i].normal.dot(parents[i].reference);
       pp.AddPlane(&parents[i]);
-    }
-    // Where each parent is: the mean of its children's anchors, along the plane (E_I).
-    std::vector<Eigen::Vector3d> sums(parents.size(), Eigen::Vector3d::Zero());
-    std::vector<int> counts(parents.size(), 0);
-    for (const CoplanarLink& l : structure.links) {
-      if (l.parent < 0 || l.parent >= static_cast<int>(parents.size())) continue;
-      sums[l.parent] += l.anchor;
-      counts[l.parent]++;
-    }
-    parent_anchors.resize(parents.size(), Eigen::Vector3d::Zero());
-    for (size_t i = 0; i < parents.size(); ++i) {
-      if (counts[i] == 0) continue;
-      const Eigen::Vector3d mean = sums[i] / counts[i];
-      parent_anchors[i] = mean - parents[i].normal.dot(mean) * parents[i].normal;  // in-plane part
     }
     // E_H: w_H v / sum(v) per link.
     double sum_h = 0;
@@ -270,11 +263,19 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       F2C_CHECK(l.child >= 0 && l.child < static_cast<int>(children.size()) && l.parent >= 0 &&
                     l.parent < static_cast<int>(parents.size()),
                 "coplanarity link in range");
-      const double s = std::sqrt(options.weight_coplanarity * l.weight / sum_h);
+      const double w = options.weight_coplanarity * l.weight / sum_h;
       PlaneVariable& c = children[l.child];
       PlaneVariable& p = parents[l.parent];
-      pp.Add(kTermH, CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, s), nullptr,
-             {c.normal.data(), &c.offset, p.normal.data(), &p.offset});
+      if (options.coplanarity_loss_scale > 0) {
+        // The weight after the loss, so its scale stays in metres.
+        pp.Add(kTermH, CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, 1.0, c.reference, p.reference),
+               pp.Loss(RobustLoss::kCauchy, options.coplanarity_loss_scale, w, kTermH),
+               {c.normal.data(), &c.offset, p.normal.data(), &p.offset});
+      } else {
+        pp.Add(kTermH, CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, std::sqrt(w), c.reference, p.reference),
+               nullptr,
+               {c.normal.data(), &c.offset, p.normal.data(), &p.offset});
+      }
     }
     // E_G: w_G w_ab / sum(w) per relation.
     double sum_g = 0;
@@ -307,8 +308,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       const double sp = std::sqrt(options.weight_inertia / static_cast<double>(parents.size()));
       for (size_t i = 0; i < parents.size(); ++i) {
         PlaneVariable& v = parents[i];
-        const Eigen::Vector3d anchor = v.offset * v.normal + parent_anchors[i];
-        pp.Add(kTermI, PlaneChangeCost::Create(v.normal, anchor, sp * options.rotation_lever_arm, sp), nullptr,
+        pp.Add(kTermI, PlaneChangeCost::Create(v.normal, v.offset, sp * options.rotation_lever_arm, sp), nullptr,
                {v.normal.data(), &v.offset});
       }
     }
@@ -362,7 +362,10 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   if (solved_parents) {
     solved_parents->assign(structure.parents.begin(), structure.parents.end());
     if (summary.usable && use_structure) {
-      for (size_t i = 0; i < parents.size(); ++i) (*solved_parents)[i] = {parents[i].normal.normalized(), parents[i].offset};
+      for (size_t i = 0; i < parents.size(); ++i) {
+        (*solved_parents)[i].normal = parents[i].normal.normalized();
+        (*solved_parents)[i].offset = parents[i].D();
+      }
     }
   }
   for (Pose& p : *poses) p.rotation.normalize();
@@ -380,6 +383,7 @@ nlohmann::json ToJson(const SolverOptions& o) {
           {"weight_relation", o.weight_relation},
           {"match_loss_scale", o.match_loss_scale},
           {"local_loss_scale", o.local_loss_scale},
+          {"coplanarity_loss_scale", o.coplanarity_loss_scale},
           {"rotation_lever_arm", o.rotation_lever_arm},
           {"loss", RobustLossName(o.loss)},
           {"loss_scale", o.loss_scale},

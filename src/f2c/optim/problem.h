@@ -47,6 +47,10 @@ struct SolverOptions {
   // stay where it is.
   double local_loss_scale = 0.0;
   double match_loss_scale = 0.05;  // metres
+  // Cauchy scale of E_H's residuals (metres; 0: least squares): a child that a wrong merge or
+  // the sensor's depth bias puts off its parent pulls less. 1 cm: about how far a
+  // structured-light sensor's plane moves between views at 1-3 m.
+  double coplanarity_loss_scale = 0.0;
   // E_L and E_I compare rotations as the displacement they cause at this distance from the
   // camera (metres per radian): a Kinect-class sensor sees surfaces at about 1-3 m.
   double rotation_lever_arm = 1.0;

@@ -2,7 +2,11 @@
 // The residuals of the paper's planar structure error E_S = w_P E_P + w_H E_H + w_G E_G
 // (§4.3, "Planar Structure Error"), as templated functors for ceres::AutoDiffCostFunction.
 // A plane is a variable of two blocks: a unit normal n (3, on ceres::SphereManifold<3>) and
-// an offset d (1): the plane {x : n . x = d}, in world coordinates. Poses are as in
+// an offset e (1) from a fixed reference point x_0 of the plane's own (its centre when the
+// iteration began): the plane {x : n . (x - x_0) = e}, in world coordinates, so d = n . x_0 + e
+// in the usual form n . x = d. Measured from the origin instead, a small turn of the normal
+// swings the plane by its distance from the origin times the angle, and one Gauss-Newton
+// step overshoots (Ceres rejects it); about the plane's centre the problem is near-linear. Poses are as in
 // optim/cost_functions.h (x_world = R(q) x_camera + t). Residuals are unweighted: metres, or
 // unit-vector differences; optim/problem.cc applies each term's weight.
 
@@ -24,8 +28,9 @@ namespace f2c {
 // paper's sum m_j = 100 n: the paper's subsample in expectation, without its sampling noise,
 // in four residuals whatever the proxy's size.
 struct ProxyFitCost {
-  ProxyFitCost(const Eigen::Vector3d& centroid, const Eigen::Matrix3d& sqrt_covariance)
-      : centroid_(centroid), sqrt_covariance_(sqrt_covariance) {}
+  ProxyFitCost(const Eigen::Vector3d& centroid, const Eigen::Matrix3d& sqrt_covariance,
+               const Eigen::Vector3d& reference = Eigen::Vector3d::Zero())
+      : centroid_(centroid), sqrt_covariance_(sqrt_covariance), reference_(reference) {}
 
   template <typename T>
   bool operator()(const T* rotation, const T* translation, const T* normal, const T* offset, T* residual) const {
@@ -33,7 +38,7 @@ struct ProxyFitCost {
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n(normal);
     const Eigen::Matrix<T, 3, 1> h_n = q.conjugate() * n;
-    const T h_d = n.dot(t) - offset[0];
+    const T h_d = n.dot(t - reference_.cast<T>()) - offset[0];
     residual[0] = h_n.dot(centroid_.cast<T>()) + h_d;
     const Eigen::Matrix<T, 3, 1> s = sqrt_covariance_.cast<T>() * h_n;
     residual[1] = s[0];
@@ -42,28 +47,34 @@ struct ProxyFitCost {
     return true;
   }
 
-  static ceres::CostFunction* Create(const Eigen::Vector3d& centroid, const Eigen::Matrix3d& sqrt_covariance) {
-    return new ceres::AutoDiffCostFunction<ProxyFitCost, 4, 4, 3, 3, 1>(new ProxyFitCost(centroid, sqrt_covariance));
+  // `reference`: the plane variable's x_0 (zero: the offset is d, from the origin).
+  static ceres::CostFunction* Create(const Eigen::Vector3d& centroid, const Eigen::Matrix3d& sqrt_covariance,
+                                     const Eigen::Vector3d& reference = Eigen::Vector3d::Zero()) {
+    return new ceres::AutoDiffCostFunction<ProxyFitCost, 4, 4, 3, 3, 1>(
+        new ProxyFitCost(centroid, sqrt_covariance, reference));
   }
 
  private:
   Eigen::Vector3d centroid_;
   Eigen::Matrix3d sqrt_covariance_;
+  Eigen::Vector3d reference_;
 };
 
 // S with S^T S = Sigma for a symmetric positive semi-definite Sigma (eigenvalues clamped at 0).
 Eigen::Matrix3d SqrtCovariance(const Eigen::Matrix3d& covariance);
 
 // E_H's E_cp(parent, child): how far a child proxy is from being coplanar with its parent.
-// With a the child's anchor (its centroid in world coordinates when the hierarchy was built)
-// and p = a - (n_c . a - d_c) n_c its foot on the child's plane:
+// With a the child's anchor (its centroid in world coordinates when the hierarchy was built,
+// also the child's reference point) and p = a - (n_c . a - d_c) n_c = a + e_c n_c its foot on
+// the child's plane (d = n . x_0 + e for both planes):
 //   r[0]    = n_p . p - d_p               the child's centre off the parent's plane (metres)
 //   r[1..3] = lever (n_c - n_p)           the normals' difference, at a lever arm (metres)
 // Zero exactly when the planes coincide (same normal, and the child's centre on the parent).
 // All residuals are multiplied by `scale` (the square root of the link's weight).
 struct CoplanarityCost {
-  CoplanarityCost(const Eigen::Vector3d& anchor, double lever_arm, double scale)
-      : anchor_(anchor), lever_(lever_arm), scale_(scale) {}
+  CoplanarityCost(const Eigen::Vector3d& anchor, double lever_arm, double scale,
+                  const Eigen::Vector3d& child_reference, const Eigen::Vector3d& parent_reference)
+      : anchor_(anchor), lever_(lever_arm), scale_(scale), child_ref_(child_reference), parent_ref_(parent_reference) {}
 
   template <typename T>
   bool operator()(const T* child_normal, const T* child_offset, const T* parent_normal, const T* parent_offset,
@@ -71,19 +82,26 @@ struct CoplanarityCost {
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n_c(child_normal);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n_p(parent_normal);
     const Eigen::Matrix<T, 3, 1> a = anchor_.cast<T>();
-    const Eigen::Matrix<T, 3, 1> p = a - (n_c.dot(a) - child_offset[0]) * n_c;
-    residual[0] = T(scale_) * (n_p.dot(p) - parent_offset[0]);
+    const T d_c = n_c.dot(child_ref_.cast<T>()) + child_offset[0];
+    const T d_p = n_p.dot(parent_ref_.cast<T>()) + parent_offset[0];
+    const Eigen::Matrix<T, 3, 1> p = a - (n_c.dot(a) - d_c) * n_c;
+    residual[0] = T(scale_) * (n_p.dot(p) - d_p);
     for (int i = 0; i < 3; ++i) residual[1 + i] = T(scale_ * lever_) * (n_c[i] - n_p[i]);
     return true;
   }
 
-  static ceres::CostFunction* Create(const Eigen::Vector3d& anchor, double lever_arm, double scale = 1) {
-    return new ceres::AutoDiffCostFunction<CoplanarityCost, 4, 3, 1, 3, 1>(new CoplanarityCost(anchor, lever_arm, scale));
+  // References zero: offsets are d, from the origin.
+  static ceres::CostFunction* Create(const Eigen::Vector3d& anchor, double lever_arm, double scale = 1,
+                                     const Eigen::Vector3d& child_reference = Eigen::Vector3d::Zero(),
+                                     const Eigen::Vector3d& parent_reference = Eigen::Vector3d::Zero()) {
+    return new ceres::AutoDiffCostFunction<CoplanarityCost, 4, 3, 1, 3, 1>(
+        new CoplanarityCost(anchor, lever_arm, scale, child_reference, parent_reference));
   }
 
  private:
   Eigen::Vector3d anchor_;
   double lever_, scale_;
+  Eigen::Vector3d child_ref_, parent_ref_;
 };
 
 // E_G, a relation between two parent proxies' normals (the paper's three cases):
@@ -123,27 +141,25 @@ struct OrthogonalCost {
 };
 
 // E_I for a plane (the paper's E_I sums pose and plane changes): its change in this
-// iteration, measured where the plane is (at `anchor`, a point of the plane at the start, so
-// that the offset's change does not grow with the distance from the world origin):
-//   r = (s_n (n - n_0), s_d (n . anchor - d))
+// iteration, r = (s_n (n - n_0), s_e (e - e_0)). The offset e is from the plane's own centre,
+// so e - e_0 is how far the plane moved there, whatever its distance from the world origin.
 struct PlaneChangeCost {
-  PlaneChangeCost(const Eigen::Vector3d& normal, const Eigen::Vector3d& anchor, double s_normal, double s_offset)
-      : normal_(normal), anchor_(anchor), s_n_(s_normal), s_d_(s_offset) {}
+  PlaneChangeCost(const Eigen::Vector3d& normal, double offset, double s_normal, double s_offset)
+      : normal_(normal), offset_(offset), s_n_(s_normal), s_e_(s_offset) {}
   template <typename T>
   bool operator()(const T* normal, const T* offset, T* residual) const {
     for (int i = 0; i < 3; ++i) residual[i] = T(s_n_) * (normal[i] - T(normal_[i]));
-    residual[3] = T(s_d_) * (normal[0] * T(anchor_[0]) + normal[1] * T(anchor_[1]) + normal[2] * T(anchor_[2]) - offset[0]);
+    residual[3] = T(s_e_) * (offset[0] - T(offset_));
     return true;
   }
-  static ceres::CostFunction* Create(const Eigen::Vector3d& normal, const Eigen::Vector3d& anchor, double s_normal,
-                                     double s_offset) {
+  static ceres::CostFunction* Create(const Eigen::Vector3d& normal, double offset, double s_normal, double s_offset) {
     return new ceres::AutoDiffCostFunction<PlaneChangeCost, 4, 3, 1>(
-        new PlaneChangeCost(normal, anchor, s_normal, s_offset));
+        new PlaneChangeCost(normal, offset, s_normal, s_offset));
   }
 
  private:
-  Eigen::Vector3d normal_, anchor_;
-  double s_n_, s_d_;
+  Eigen::Vector3d normal_;
+  double offset_, s_n_, s_e_;
 };
 
 }  // namespace f2c

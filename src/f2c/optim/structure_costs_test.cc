@@ -136,20 +136,46 @@ TEST_F(StructureCosts, RelationsVanishWhenMetAndAreHandComputedOtherwise) {
   }
 }
 
-TEST_F(StructureCosts, PlaneChangeVanishesAtThePreviousPlaneAndMeasuresTheChangeAtTheAnchor) {
+TEST_F(StructureCosts, PlaneChangeVanishesAtThePreviousPlaneAndMeasuresTheChange) {
   const Eigen::Vector3d n0 = Eigen::Vector3d(1, 2, 2) / 3;
-  const Eigen::Vector3d anchor = 0.5 * n0 + Eigen::Vector3d(2, -1, 0);  // on n0 . x = 0.5
   Eigen::Vector3d n = n0;
-  double d = n0.dot(anchor);
-  std::unique_ptr<ceres::CostFunction> cost(PlaneChangeCost::Create(n0, anchor, 2.0, 3.0));
-  std::vector<double*> blocks = {n.data(), &d};
+  double e = 0.5;
+  std::unique_ptr<ceres::CostFunction> cost(PlaneChangeCost::Create(n0, 0.5, 2.0, 3.0));
+  std::vector<double*> blocks = {n.data(), &e};
   for (double r : Residuals(*cost, blocks)) EXPECT_NEAR(r, 0, 1e-15);
   n = Eigen::Vector3d(0, 0, 1);
-  d = 0.6;
+  e = 0.6;
   const std::vector<double> r = Residuals(*cost, blocks);
   EXPECT_NEAR(r[2], 2 * (1 - 2.0 / 3), 1e-15);
-  EXPECT_NEAR(r[3], 3 * (anchor.z() - 0.6), 1e-12);  // the anchor's distance from the new plane
+  EXPECT_NEAR(r[3], 3 * 0.1, 1e-12);
   ExpectJacobiansMatch(*cost, blocks, {&sphere_, nullptr});
+}
+
+// With reference points the same planes give the same residuals: an offset e from x_0 is
+// d = n . x_0 + e from the origin.
+TEST_F(StructureCosts, ReferencePointsOnlyMoveWhereOffsetsAreMeasuredFrom) {
+  std::mt19937 rng(5);
+  Pose pose = RandomPose(rng);
+  Eigen::Vector3d n = Eigen::Vector3d(0.2, 0.9, -0.3).normalized(), n_p = Eigen::Vector3d(0.25, 0.88, -0.3).normalized();
+  double d = 1.3, d_p = 1.25;
+  const Members members = MembersOf(pose, n, d, rng, 0.01);
+  const Eigen::Vector3d x0(0.5, -1, 2), x0_p(3, 1, -1), anchor(1, 1, 1);
+  double e = d - n.dot(x0), e_p = d_p - n_p.dot(x0_p);
+  const Eigen::Matrix3d sqrt_cov = SqrtCovariance(members.covariance);
+  std::unique_ptr<ceres::CostFunction> fit(ProxyFitCost::Create(members.centroid, sqrt_cov));
+  std::unique_ptr<ceres::CostFunction> fit_ref(ProxyFitCost::Create(members.centroid, sqrt_cov, x0));
+  const std::vector<double> a = Residuals(*fit, {pose.rotation_data(), pose.translation_data(), n.data(), &d});
+  const std::vector<double> b = Residuals(*fit_ref, {pose.rotation_data(), pose.translation_data(), n.data(), &e});
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(a[i], b[i], 1e-12);
+  std::unique_ptr<ceres::CostFunction> cop(CoplanarityCost::Create(anchor, 1.5, 2.0));
+  std::unique_ptr<ceres::CostFunction> cop_ref(CoplanarityCost::Create(anchor, 1.5, 2.0, x0, x0_p));
+  const std::vector<double> c = Residuals(*cop, {n.data(), &d, n_p.data(), &d_p});
+  const std::vector<double> f = Residuals(*cop_ref, {n.data(), &e, n_p.data(), &e_p});
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(c[i], f[i], 1e-12);
+  EXPECT_GT(std::abs(c[0]), 0.01);
+  ExpectJacobiansMatch(*fit_ref, {pose.rotation_data(), pose.translation_data(), n.data(), &e},
+                       {&quaternion_, nullptr, &sphere_, nullptr});
+  ExpectJacobiansMatch(*cop_ref, {n.data(), &e, n_p.data(), &e_p}, {&sphere_, nullptr, &sphere_, nullptr});
 }
 
 }  // namespace

@@ -179,7 +179,7 @@ ProxyHierarchy BuildProxyHierarchy(const WindowSchedule& schedule, int iteration
     const std::vector<ClusterItem> items(world.begin() + begin, world.begin() + end);
     for (const PlaneCluster& cluster : ClusterCoplanar(items, options)) {
       const int parent = static_cast<int>(s.parents.size());
-      s.parents.push_back({cluster.normal, cluster.offset()});
+      s.parents.push_back({cluster.normal, cluster.offset(), cluster.centroid});
       h.parent_window.push_back(static_cast<int>(w));
       h.window_parents[w].push_back(parent);
       std::set<int> frames;

@@ -30,9 +30,10 @@ namespace f2c {
 struct HierarchyOptions {
   // The authors' code merges within 0.3 m and pi/8 (DESIGN.md §2). Measured here
   // (BENCHMARKS.md, refine_test): that merges a wall with a cupboard front or a surface 20 deg
-  // off it, and E_H then bends the scan; 0.1 m and 10 deg are the defaults.
-  double max_distance = 0.1;                      // metres
-  double max_normal_angle = 0.17453292519943295;  // radians, 10 deg
+  // off it, or a desk with what stands on it, and E_H then bends the scan; the defaults are
+  // 0.05 m and 5 deg.
+  double max_distance = 0.05;                     // metres
+  double max_normal_angle = 0.08726646259971647;  // radians, 5 deg
   double premerge_fraction = 0.5;              // of both thresholds, for the first pass
 
   void Check() const;  // InputError naming the option when out of range

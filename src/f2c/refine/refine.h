@@ -41,8 +41,11 @@ struct RefineOptions {
   LocalAlignmentOptions local;
   SiftLoopOptions loops;
   SolverOptions solver;
-  // The planar structural model (E_P, E_H, E_G); false: the paper's --no-structure ablation.
-  bool structure = true;
+  // The planar structural model (E_P, E_H, E_G), register --structure. Off by default for
+  // now: measured (BENCHMARKS.md), it lowers rotation drift on simulated multi-room walks but
+  // costs accuracy on TUM fr1/xyz (0.0116 -> 0.0180 m ATE, E_H's coplanarity pulling
+  // proxies that the sensor's depth bias puts a little apart) and time (7 -> 12 ms/frame).
+  bool structure = false;
   HierarchyOptions hierarchy;
   RelationOptions relations;
   // The authors' linear weight schedule: a term's weight is this in the first iteration and
