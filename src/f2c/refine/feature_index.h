@@ -33,8 +33,10 @@ struct FeatureIndexOptions {
   // Points kept per frame to estimate how much two views overlap (refine/pairs).
   int coverage_samples = 24;
   // Per-image proxies kept per frame for the structural model (the largest), and the fewest
-  // member cells one must have (the extraction's own minimum is 10, DESIGN.md §2).
-  int max_proxies = 8;
+  // member cells one must have (the extraction's own minimum is 10, DESIGN.md §2). Measured
+  // (BENCHMARKS.md): 4 instead of 8 halves the solve (fewer small parents tying many frames
+  // together) and keeps most of the structure's gain.
+  int max_proxies = 4;
   int min_proxy_inliers = 10;
 
   void Check() const;
