@@ -9,7 +9,8 @@ namespace f2c {
 namespace {
 
 // Proxies sampled from known world planes: centroids spread over several metres of each
-// plane, normals tilted by up to 2 degrees, offsets off by up to 1 cm.
+// plane, normals tilted by up to 1 degree, offsets off by up to 5 mm (within the default
+// thresholds, 5 deg and 5 cm, by a margin).
 std::vector<ClusterItem> SamplePlanes(const std::vector<std::pair<Eigen::Vector3d, double>>& planes, int per_plane,
                                       std::vector<int>* truth) {
   std::mt19937 rng(3);
@@ -20,8 +21,8 @@ std::vector<ClusterItem> SamplePlanes(const std::vector<std::pair<Eigen::Vector3
       const Eigen::Vector3d n = planes[p].first.normalized();
       const Eigen::Vector3d a = n.unitOrthogonal(), b = n.cross(a);
       ClusterItem item;
-      item.normal = (n + 0.035 * u(rng) * a + 0.035 * u(rng) * b).normalized();
-      item.centroid = planes[p].second * n + 2.5 * u(rng) * a + 1.2 * u(rng) * b + 0.01 * u(rng) * n;
+      item.normal = (n + 0.012 * u(rng) * a + 0.012 * u(rng) * b).normalized();
+      item.centroid = planes[p].second * n + 2.5 * u(rng) * a + 1.2 * u(rng) * b + 0.005 * u(rng) * n;
       item.weight = 20 + 10 * k % 7;
       items.push_back(item);
       truth->push_back(static_cast<int>(p));
@@ -61,7 +62,7 @@ TEST(ClusterCoplanar, ParallelWallsApartAreMergedOnlyWithinTheDistanceThreshold)
   }
   options.max_distance = 0.3;  // the authors' threshold: one plane
   EXPECT_EQ(ClusterCoplanar(items, options).size(), 1u);
-  // Normals 30 degrees apart never merge under pi/8, however close.
+  // Normals 30 degrees apart never merge (default 5 deg), however close.
   std::vector<ClusterItem> tilted = {items[0], items[0]};
   tilted[1].normal = Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d::UnitZ()) * tilted[1].normal;
   EXPECT_EQ(ClusterCoplanar(tilted, HierarchyOptions()).size(), 2u);
