@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fmt/format.h>
 
+#include <nlohmann/json.hpp>
+
 #include "f2c/features/feature_set.h"
 #include "f2c/io/ply.h"
 #include "f2c/io/trajectory.h"
@@ -160,6 +162,33 @@ TEST(Cli, WriteConfigThenConfigReproducesTheRun) {
   // A misspelt key is an error, not a hint.
   WriteFileAtomic(out / "bad.toml", "register.windw-frames=4\n");
   EXPECT_EQ(RunCli("--config " + (out / "bad.toml").string() + " register " + dir.string() + " -o /tmp/x").code, 2);
+}
+
+// --structure adds the structural model: each iteration's summary in run.json lists the
+// hierarchy (every child linked, parents from the synthetic room's walls and floor) and the
+// terms E_P and E_H; --no-structure (the default) has none of them.
+TEST(Cli, StructureAddsTheHierarchyAndItsTermsToEachIteration) {
+  const fs::path dir = SyntheticTum("cli_structure", 12);
+  const fs::path out = testing::FreshTempDir("cli_structure_out");
+  const std::string base = "register " + dir.string() + " --intrinsics primesense -q --window-frames 4 ";
+  ASSERT_EQ(RunCli(base + "--structure -o " + (out / "on").string()).code, 0);
+  ASSERT_EQ(RunCli(base + "-o " + (out / "off").string()).code, 0);
+  const nlohmann::json on = nlohmann::json::parse(ReadFileToString(out / "on" / "run.json"));
+  const nlohmann::json off = nlohmann::json::parse(ReadFileToString(out / "off" / "run.json"));
+  const nlohmann::json& last = on["stages"]["refine"]["iterations"].back();
+  EXPECT_GT(last["hierarchy"]["children"].get<int>(), 0) << last.dump(2);
+  EXPECT_EQ(last["hierarchy"]["links"].get<int>(), last["hierarchy"]["children"].get<int>());  // one window
+  EXPECT_GT(last["hierarchy"]["parents"].get<int>(), 0);
+  EXPECT_TRUE(last["solve"]["cost_after"].contains("E_P"));
+  EXPECT_TRUE(last["solve"]["cost_after"].contains("E_H"));
+  const nlohmann::json& plain = off["stages"]["refine"]["iterations"].back();
+  EXPECT_EQ(plain["hierarchy"]["children"].get<int>(), 0);
+  EXPECT_FALSE(plain["solve"]["cost_after"].contains("E_P"));
+  EXPECT_EQ(RunCli(base + "--weight-schedule linear -o " + (out / "bad").string()).output,
+            "error: --weight-schedule: unknown schedule 'linear' (constant, authors)\n");
+  EXPECT_EQ(RunCli(base + "--structure --coplanar-angle 95 -o " + (out / "bad").string()).output,
+            "error: --coplanar-angle: must be in (0, 90) degrees\n");
+  EXPECT_FALSE(fs::exists(out / "bad"));
 }
 
 TEST(Cli, BadRefinementOptionFailsBeforeAnyWork) {
