@@ -96,6 +96,8 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
                 "the planar structural model E_P, E_H, E_G (default off for now, BENCHMARKS.md; --no-structure: the paper's ablation)")
       ->default_str(o->structure ? "true" : "false")
       ->group(st);
+  add(st, "--structure-from", &o->structure_first_iteration,
+      "the structure from this iteration on (< 0: from the first whose window holds the whole scan)");
   add(st, "--weight-proxy", &o->solver.weight_proxy, "w_P, E_P's total weight (children fit their images)");
   add(st, "--weight-coplanarity", &o->solver.weight_coplanarity, "w_H, E_H's total weight (children coplanar with parents)");
   add(st, "--coplanarity-loss-scale", &o->solver.coplanarity_loss_scale, "Cauchy scale of E_H (m; 0: least squares)");

@@ -142,7 +142,12 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     // The structural model under the current poses.
     stage.Restart();
     constraints.structure = {};
-    if (options.structure) {
+    int first_structure = options.structure_first_iteration;
+    if (first_structure < 0) {
+      first_structure = 0;
+      while (first_structure < schedule.iterations() && !schedule.Full(first_structure)) ++first_structure;
+    }
+    if (options.structure && it >= first_structure) {
       ProxyHierarchy hierarchy = BuildProxyHierarchy(schedule, it, index, result.poses, options.hierarchy);
       hierarchy.structure.relations = DetectRelations(hierarchy, options.relations, &s.relations);
       s.hierarchy = hierarchy.stats;
@@ -199,6 +204,7 @@ nlohmann::json ToJson(const RefineOptions& o) {
           {"sift_loops", ToJson(o.loops)},
           {"solver", ToJson(o.solver)},
           {"structure", o.structure},
+          {"structure_first_iteration", o.structure_first_iteration},
           {"hierarchy", ToJson(o.hierarchy)},
           {"relations", ToJson(o.relations)},
           {"weight_correspondence_initial", o.weight_correspondence_initial},

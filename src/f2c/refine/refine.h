@@ -48,6 +48,9 @@ struct RefineOptions {
   bool structure = false;
   HierarchyOptions hierarchy;
   RelationOptions relations;
+  // The structure from this iteration on; < 0: from the first iteration whose window holds
+  // the whole scan (after the loops the growing windows find).
+  int structure_first_iteration = 0;
   // The authors' linear weight schedule: a term's weight is this in the first iteration and
   // moves linearly to its solver weight in the last (they use 1500 -> 1000 for E_C, E_S and
   // E_H); < 0: the solver weight throughout.
