@@ -17,6 +17,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <string>
 #include <vector>
@@ -52,6 +53,16 @@ double PlaneAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) * 180 / M_PI;
 }
 
+// A number of a --wall argument, or an InputError naming it.
+double Number(const char* text, const std::string& wall) {
+  char* end = nullptr;
+  const double v = std::strtod(text, &end);
+  if (end == text || *end != '\0' || !std::isfinite(v)) {
+    throw f2c::InputError(fmt::format("--wall {}: '{}' is not a number", wall, text));
+  }
+  return v;
+}
+
 int Run(int argc, char** argv) {
   if (argc < 4) throw f2c::InputError("usage: wall_angles DATASET FEATURES_CACHE ESTIMATE --wall NAME x0 y0 x1 y1 ...");
   std::vector<Wall> walls;
@@ -59,8 +70,8 @@ int Run(int argc, char** argv) {
     if (std::string(argv[i]) != "--wall" || i + 5 >= argc) throw f2c::InputError("expected --wall NAME x0 y0 x1 y1");
     Wall w;
     w.name = argv[i + 1];
-    w.a = {std::stod(argv[i + 2]), std::stod(argv[i + 3])};
-    w.b = {std::stod(argv[i + 4]), std::stod(argv[i + 5])};
+    w.a = {Number(argv[i + 2], w.name), Number(argv[i + 3], w.name)};
+    w.b = {Number(argv[i + 4], w.name), Number(argv[i + 5], w.name)};
     walls.push_back(w);
   }
   f2c::IoOptions io;

@@ -8,20 +8,12 @@
 #include <random>
 #include <vector>
 
-#include "f2c/optim/jacobian_check.h"
+#include "f2c/optim/test_helpers.h"
 #include "f2c/optim/pair_cost.h"
 #include "f2c/optim/pose.h"
 
 namespace f2c {
 namespace {
-
-Pose RandomPose(std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  Pose pose;
-  pose.rotation = Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized();
-  pose.translation = Eigen::Vector3d(n(rng), n(rng), n(rng));
-  return pose;
-}
 
 class CostFunctions : public ::testing::Test {
  protected:

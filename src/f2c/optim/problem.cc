@@ -55,7 +55,6 @@ struct PlaneVariable {
   Eigen::Vector3d normal;
   double offset = 0;
   Eigen::Vector3d reference = Eigen::Vector3d::Zero();
-  double D() const { return normal.dot(reference) + offset; }  // the offset from the origin
 };
 
 std::unique_ptr<ceres::LossFunction> MakeLoss(RobustLoss loss, double scale, double weight) {
@@ -142,8 +141,18 @@ class PoseProblem {
 
 }  // namespace
 
-SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& options, PoseVector* poses,
-                        std::vector<PlaneEstimate>* solved_parents) {
+// Ceres' settings shared by the plane presolve and the main solve.
+static ceres::Solver::Options BaseSolverOptions(const SolverOptions& options) {
+  ceres::Solver::Options o;
+  o.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  o.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  o.num_threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+  o.function_tolerance = options.function_tolerance;
+  o.logging_type = ceres::SILENT;
+  return o;
+}
+
+SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& options, PoseVector* poses) {
   const std::vector<FeatureCorrespondence>& correspondences = constraints.correspondences;
   const std::vector<RelativePoseConstraint>& local = constraints.local;
   options.Check();
@@ -227,7 +236,8 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   }
 
   // The structural model. Children start where their frame's pose puts the image's plane
-  // (E_P is zero there); parents where the hierarchy fitted them.
+  // (E_P starts at the image's own fit residual); parents where the hierarchy fitted them.
+  // Without E_P children would float free of their frames, so w_P = 0 turns it all off.
   const StructureConstraints& structure = constraints.structure;
   std::vector<PlaneVariable> children(structure.children.size()), parents(structure.parents.size());
   const bool use_structure = !structure.empty() && options.weight_proxy > 0;
@@ -322,35 +332,24 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   // the joint step starts from planes in balance with the current poses.
   if (use_structure && options.one_step && options.plane_presolve_iterations > 0) {
     for (int i = 1; i < n; ++i) pp.FixPose(&(*poses)[i]);
-    ceres::Solver::Options planes;
-    planes.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-    planes.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-    planes.num_threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+    ceres::Solver::Options planes = BaseSolverOptions(options);
     planes.max_num_iterations = options.plane_presolve_iterations;
-    planes.function_tolerance = options.function_tolerance;
-    planes.logging_type = ceres::SILENT;
     ceres::Solver::Summary planes_summary;
     ceres::Solve(planes, &pp.problem(), &planes_summary);
     summary.plane_presolve_iterations = static_cast<int>(planes_summary.iterations.size()) - 1;
     for (int i = 1; i < n; ++i) pp.FreePose(&(*poses)[i]);
   }
-  ceres::Solver::Options solver;
+  ceres::Solver::Options solver = BaseSolverOptions(options);
   if (options.iterative) {
     solver.linear_solver_type = ceres::CGNR;
     solver.preconditioner_type = ceres::JACOBI;
     solver.max_linear_solver_iterations = options.max_linear_iterations;
-  } else {
-    solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-    solver.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
   }
-  solver.num_threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
   solver.max_num_iterations = options.one_step ? 1 : options.max_iterations;
-  solver.function_tolerance = options.function_tolerance;
   if (options.one_step) {
     // A huge trust region makes Levenberg-Marquardt's first step the Gauss-Newton step.
     solver.initial_trust_region_radius = 1e16;
   }
-  solver.logging_type = ceres::SILENT;
   ceres::Solver::Summary ceres_summary;
   ceres::Solve(solver, &pp.problem(), &ceres_summary);
   summary.cost_after = pp.TermCosts();
@@ -359,15 +358,6 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   summary.usable = ceres_summary.IsSolutionUsable();
   for (const ceres::IterationSummary& it : ceres_summary.iterations) summary.linear_iterations += it.linear_solver_iterations;
   if (!summary.usable) *poses = previous;  // a failed solve leaves the poses as they were
-  if (solved_parents) {
-    solved_parents->assign(structure.parents.begin(), structure.parents.end());
-    if (summary.usable && use_structure) {
-      for (size_t i = 0; i < parents.size(); ++i) {
-        (*solved_parents)[i].normal = parents[i].normal.normalized();
-        (*solved_parents)[i].offset = parents[i].D();
-      }
-    }
-  }
   for (Pose& p : *poses) p.rotation.normalize();
   summary.seconds = timer.Seconds();
   return summary;

@@ -91,9 +91,7 @@ struct SolveSummary {
 
 // Minimises the energy above, starting from and writing to `poses` (world_from_camera, one
 // per frame). The poses on entry are E_I's reference.
-// The solved parent planes go to `parents` when given (one per constraints.structure.parents).
-SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& options, PoseVector* poses,
-                        std::vector<PlaneEstimate>* parents = nullptr);
+SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& options, PoseVector* poses);
 
 nlohmann::json ToJson(const SolverOptions& options);
 nlohmann::json ToJson(const SolveSummary& summary);

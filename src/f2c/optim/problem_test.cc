@@ -108,7 +108,7 @@ TEST(SolvePoses, CorrespondencesAloneRecoverPerturbedPoses) {
   options.one_step = false;
   options.weight_inertia = 1e-6;  // the reference here is the perturbed start
   SolveSummary s;
-  for (int round = 0; round < 3; ++round) s = SolvePoses({c, {}, {}}, options, &poses);
+  for (int round = 0; round < 3; ++round) s = SolvePoses({c, {}, {}, {}}, options, &poses);
   ASSERT_TRUE(s.usable) << s.termination;
   EXPECT_LT(MaxTranslationError(poses, scene.truth), 1e-4);
   EXPECT_LT(MaxRotationErrorDeg(poses, scene.truth), 0.01);
@@ -124,7 +124,7 @@ TEST(SolvePoses, LocalConstraintsAtTheTruthCostNothing) {
     local.push_back({a, a + 1, Eigen::Quaterniond(a_from_b.linear()), a_from_b.translation(), 1.0 + a});
   }
   PoseVector poses = scene.truth;
-  SolveSummary s = SolvePoses({{}, local, {}}, {}, &poses);
+  SolveSummary s = SolvePoses({{}, local, {}, {}}, {}, &poses);
   EXPECT_LT(s.cost_before.at("E_L"), 1e-20);
   EXPECT_LT(MaxTranslationError(poses, scene.truth), 1e-9);
   // From perturbed poses, the chain of relative transforms alone brings them back (the first
@@ -134,7 +134,7 @@ TEST(SolvePoses, LocalConstraintsAtTheTruthCostNothing) {
   SolverOptions options;
   options.one_step = false;
   options.weight_inertia = 1e-9;
-  for (int round = 0; round < 3; ++round) s = SolvePoses({{}, local, {}}, options, &poses);
+  for (int round = 0; round < 3; ++round) s = SolvePoses({{}, local, {}, {}}, options, &poses);
   EXPECT_LT(MaxTranslationError(poses, scene.truth), 1e-5);
   EXPECT_LT(MaxRotationErrorDeg(poses, scene.truth), 1e-3);
 }
@@ -146,7 +146,7 @@ TEST(SolvePoses, TermWeightsAreTotalsSharedAmongResiduals) {
   std::vector<RelativePoseConstraint> local = {{0, 1, Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 0, 0), 7.0}};
   SolverOptions options;
   options.weight_local = 300;
-  const SolveSummary s = SolvePoses({{}, local, {}}, options, &poses);
+  const SolveSummary s = SolvePoses({{}, local, {}, {}}, options, &poses);
   EXPECT_NEAR(s.cost_before.at("E_L"), 0.5 * 300 * 0.01, 1e-9);
   // E_I starts at zero and ends small; E_L almost vanishes.
   EXPECT_NEAR(s.cost_before.at("E_I"), 0.0, 1e-15);
@@ -160,7 +160,7 @@ TEST(SolvePoses, OneGaussNewtonStepReducesTheCost) {
   PoseVector poses = Perturb(scene.truth, 0.02, 0.01, rng);
   SolverOptions options;
   options.one_step = true;
-  const SolveSummary s = SolvePoses({c, {}, {}}, options, &poses);
+  const SolveSummary s = SolvePoses({c, {}, {}, {}}, options, &poses);
   EXPECT_EQ(s.iterations, 1);
   EXPECT_LT(s.cost_after.at("E_C"), 0.05 * s.cost_before.at("E_C"));
 }

@@ -92,6 +92,11 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
   std::vector<double> confidence;
   for (const PairAlignment& p : pairs) confidence.push_back(PairConfidence(p, options.local));
   SiftLoopMatcher loops(std::move(keyframes), confidence, options.loops);
+  int first_structure = options.structure_first_iteration;  // < 0: the first full window
+  if (first_structure < 0) {
+    first_structure = 0;
+    while (first_structure < schedule.iterations() && !schedule.Full(first_structure)) ++first_structure;
+  }
 
   for (int it = 0; it < schedule.iterations(); ++it) {
     Timer timer;
@@ -123,7 +128,7 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
           MatchError(result.poses, constraints.matches) > options.loops.presolve_min_change) {
         SolverOptions graph = options.solver;
         graph.one_step = false;
-        s.presolve = SolvePoses({{}, constraints.local, constraints.matches}, graph, &result.poses);
+        s.presolve = SolvePoses({{}, constraints.local, constraints.matches, {}}, graph, &result.poses);
       }
       s.seconds_loops += presolve.Seconds();
     }
@@ -142,11 +147,6 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     // The structural model under the current poses.
     stage.Restart();
     constraints.structure = {};
-    int first_structure = options.structure_first_iteration;
-    if (first_structure < 0) {
-      first_structure = 0;
-      while (first_structure < schedule.iterations() && !schedule.Full(first_structure)) ++first_structure;
-    }
     if (options.structure && it >= first_structure) {
       ProxyHierarchy hierarchy = BuildProxyHierarchy(schedule, it, index, result.poses, options.hierarchy);
       hierarchy.structure.relations = DetectRelations(hierarchy, options.relations, &s.relations);

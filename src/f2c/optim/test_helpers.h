@@ -1,6 +1,6 @@
 #pragma once
-// Test helpers (gtest): residuals of a cost function, and its Jacobians checked against
-// central differences and Ceres' GradientChecker.
+// Test helpers (gtest): random poses, residuals of a cost function, and its Jacobians
+// checked against central differences and Ceres' GradientChecker.
 
 #include <ceres/gradient_checker.h>
 #include <ceres/manifold.h>
@@ -8,9 +8,21 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <random>
 #include <vector>
 
+#include "f2c/optim/pose.h"
+
 namespace f2c {
+
+// A pose with a uniformly random rotation and a standard-normal translation.
+inline Pose RandomPose(std::mt19937& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  Pose pose;
+  pose.rotation = Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized();
+  pose.translation = Eigen::Vector3d(n(rng), n(rng), n(rng));
+  return pose;
+}
 
 inline std::vector<double> Residuals(const ceres::CostFunction& cost, std::vector<double*> blocks) {
   std::vector<double> r(cost.num_residuals());
