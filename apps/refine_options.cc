@@ -129,7 +129,7 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
   cmd->add_flag("--sift-loops,!--no-sift-loops", lo.enabled, "SIFT re-matching of keyframes (default on; --no-sift-loops: closest features only, as the paper)")
       ->default_str(lo.enabled ? "true" : "false")
       ->group(l);
-  add(l, "--keyframe-interval", &lo.keyframes.interval, "every N-th frame keeps its SIFT for re-matching");
+  add(l, "--keyframe-interval", &lo.keyframes.interval, "every N-th frame keeps its SIFT for re-matching (0: the odometry's keyframes; every 5th without them)");
   add(l, "--keyframe-keypoints", &lo.keyframes.max_keypoints, "SIFT points kept per keyframe");
   add(l, "--loop-candidates", &lo.candidates_per_keyframe, "new loop (and bridge) partners per keyframe and iteration");
   add(l, "--loop-gap", &lo.loop_gap, "loops: keyframes at least this many frames apart");

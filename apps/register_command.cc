@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <atomic>
 #include <optional>
@@ -34,10 +35,12 @@ json PairsToJson(const std::vector<PairAlignment>& pairs) {
 }
 
 json PairStatistics(const std::vector<PairAlignment>& pairs) {
-  int sift = 0, icp = 0, prior = 0;
+  int sift = 0, track = 0, icp = 0, prior = 0, keyframes = 1;
   double inliers = 0, fitness = 0, min_fitness = pairs.empty() ? 0.0 : 1.0;
   for (const PairAlignment& p : pairs) {
     sift += p.method == AlignmentMethod::kSift;
+    track += p.method == AlignmentMethod::kTrack;
+    keyframes += p.keyframe;
     icp += p.method == AlignmentMethod::kIcp;
     prior += p.method == AlignmentMethod::kMotionPrior;
     inliers += p.inliers;
@@ -45,7 +48,7 @@ json PairStatistics(const std::vector<PairAlignment>& pairs) {
     min_fitness = std::min(min_fitness, p.fitness);
   }
   const double n = std::max<size_t>(pairs.size(), 1);
-  return {{"pairs", pairs.size()},   {"sift", sift},
+  return {{"pairs", pairs.size()},   {"sift", sift},  {"track", track}, {"keyframes", keyframes},
           {"icp", icp},              {"motion_prior", prior},
           {"mean_inliers", inliers / n}, {"mean_fitness", fitness / n},
           {"min_fitness", min_fitness}};
@@ -117,15 +120,20 @@ int RunRegister(const RegisterArgs& args) {
   // Keyframes' SIFT for the refinement's loop matcher, kept as the odometry computes it.
   std::optional<KeyframeStore> keyframe_store;
   if (args.run_refinement && args.extract_features && args.refine.loops.enabled) {
+    // Without keyframe odometry every frame's SIFT is offered: keep only every interval-th.
+    const int interval = args.refine.loops.keyframes.interval > 0 ? args.refine.loops.keyframes.interval
+                         : args.odometry.keyframes.enabled        ? 0
+                                                                  : 5;
     keyframe_store.emplace(seq, args.refine.loops.keyframes, args.odometry.sift,
-                           args.use_cache ? out / "cache" / "keyframes.f2ck" : fs::path());
+                           args.use_cache ? out / "cache" / "keyframes.f2ck" : fs::path(), interval);
     run.on_sift = [&](int frame, const SiftFeatures& sift) { keyframe_store->Offer(frame, sift); };
   }
-  const Odometry odometry = AlignConsecutive(seq, args.odometry, run);
+  const Odometry odometry = AlignFrames(seq, args.odometry, run);
   const json stats = PairStatistics(odometry.pairs);
-  spdlog::info("odometry: {} pairs ({} SIFT, {} ICP, {} motion prior) in {:.1f} s",
-               odometry.pairs.size(), stats["sift"].get<int>(), stats["icp"].get<int>(),
-               stats["motion_prior"].get<int>(), odometry.timings.wall);
+  spdlog::info("odometry: {} frames aligned ({} tracked, {} SIFT, {} ICP, {} motion prior), {} keyframes, in {:.1f} s",
+               odometry.pairs.size(), stats["track"].get<int>(), stats["sift"].get<int>(), stats["icp"].get<int>(),
+               stats["motion_prior"].get<int>(), args.odometry.keyframes.enabled ? stats["keyframes"].get<int>() : 0,
+               odometry.timings.wall);
 
   json feature_stage = nullptr, feature_stats = nullptr;
   if (extraction) {
@@ -149,7 +157,10 @@ int RunRegister(const RegisterArgs& args) {
     refine_run.keep_iterations = args.save_iterations;
     Timer keyframe_timer;
     std::vector<Keyframe> keyframes;
-    if (keyframe_store) keyframes = keyframe_store->Finish();
+    if (keyframe_store) {
+      keyframes = keyframe_store->Finish(LoopKeyframes(static_cast<int>(seq.frames.size()), args.refine.loops.keyframes,
+                                                       OdometryKeyframes(odometry)));
+    }
     const double keyframe_s = keyframe_timer.Seconds();
     if (keyframe_store && keyframe_store->computed() > 0) {
       spdlog::info("keyframes: {} with SIFT for loop pairs ({} decoded again, {:.1f} s)", keyframes.size(),
@@ -252,6 +263,41 @@ Subcommand AddRegisterCommand(CLI::App* app) {
       ->capture_default_str();
   cmd->add_option("--min-inliers", od.min_inliers, "fewer SIFT inliers fall back to ICP")
       ->capture_default_str();
+  auto& kf = od.keyframes;
+  const std::string kg = "Keyframe odometry";
+  cmd->add_option("--keyframes", kf.enabled,
+                  "on: align each frame to the current keyframe by tracking its SIFT keypoints; off: consecutive "
+                  "pairs, SIFT on every frame")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, bool>{{"on", true}, {"off", false}}))
+      ->default_str("on")
+      ->group(kg);
+  cmd->add_option("--keyframe-translation", kf.max_translation, "a frame this far (m) from its keyframe starts one")
+      ->capture_default_str()
+      ->group(kg);
+  cmd->add_option("--keyframe-rotation", kf.max_rotation_deg, "a frame turned this far (deg) from its keyframe starts one")
+      ->capture_default_str()
+      ->group(kg);
+  cmd->add_option("--keyframe-overlap", kf.min_overlap, "depth overlap with the keyframe below this starts one")
+      ->capture_default_str()
+      ->group(kg);
+  cmd->add_option("--keyframe-inlier-share", kf.min_inlier_share,
+                  "tracked inliers below this share of the keyframe's keypoints start one")
+      ->capture_default_str()
+      ->group(kg);
+  cmd->add_option("--keyframe-max-interval", kf.max_interval, "frames after which a new keyframe starts (0: no limit)")
+      ->capture_default_str()
+      ->group(kg);
+  cmd->add_option("--track-min-inliers", kf.min_inliers, "fewer tracked inliers: SIFT against the keyframe instead")
+      ->capture_default_str()
+      ->group(kg);
+  cmd->add_option("--track-window", kf.track.window, "Lucas-Kanade window (pixels, odd)")->capture_default_str()->group(kg);
+  cmd->add_option("--track-levels", kf.track.pyramid_levels, "Lucas-Kanade pyramid levels above the image")
+      ->capture_default_str()
+      ->group(kg);
+  cmd->add_option("--track-forward-backward", kf.track.max_forward_backward,
+                  "drop tracks that do not return within this many pixels (0: no check)")
+      ->capture_default_str()
+      ->group(kg);
   AddFeatureOptions(cmd, &args->features);
   auto flags = std::make_shared<RegisterFlags>();
   cmd->add_option("--stop-after", flags->stop_after, "odometry: T0 is the result; refine: the fine-to-coarse refinement")

@@ -48,20 +48,8 @@ SiftFeatures ExtractSiftWithDepth(const cv::Mat& gray, const cv::Mat& depth,
   features.detected = static_cast<int>(keypoints.size());
   std::vector<int> kept;
   for (int i = 0; i < static_cast<int>(keypoints.size()); ++i) {
-    const int u = static_cast<int>(std::lround(keypoints[i].pt.x));
-    const int v = static_cast<int>(std::lround(keypoints[i].pt.y));
-    if (u < 1 || v < 1 || u >= depth.cols - 1 || v >= depth.rows - 1) continue;
-    const float z = depth.at<float>(v, u);
-    if (!(z >= options.min_depth && z <= options.max_depth)) continue;
-    float lo = z, hi = z;
-    for (int dv = -1; dv <= 1; ++dv) {
-      for (int du = -1; du <= 1; ++du) {
-        const float d = depth.at<float>(v + dv, u + du);
-        lo = std::min(lo, d);
-        hi = std::max(hi, d);
-      }
-    }
-    if (lo <= 0 || hi - lo > options.max_depth_spread * z) continue;
+    float z = 0;
+    if (!KeypointDepth(depth, keypoints[i].pt, options, &z)) continue;
     features.points_in_camera.push_back(intrinsics.Unproject(keypoints[i].pt.x, keypoints[i].pt.y, z));
     features.pixels.push_back(keypoints[i].pt);
     kept.push_back(i);
@@ -69,6 +57,25 @@ SiftFeatures ExtractSiftWithDepth(const cv::Mat& gray, const cv::Mat& depth,
   features.descriptors.create(static_cast<int>(kept.size()), descriptors.cols, CV_32F);
   for (size_t r = 0; r < kept.size(); ++r) descriptors.row(kept[r]).copyTo(features.descriptors.row(static_cast<int>(r)));
   return features;
+}
+
+bool KeypointDepth(const cv::Mat& depth, const cv::Point2f& pixel, const SiftOptions& options, float* z) {
+  const int u = static_cast<int>(std::lround(pixel.x));
+  const int v = static_cast<int>(std::lround(pixel.y));
+  if (u < 1 || v < 1 || u >= depth.cols - 1 || v >= depth.rows - 1) return false;
+  const float centre = depth.at<float>(v, u);
+  if (!(centre >= options.min_depth && centre <= options.max_depth)) return false;
+  float lo = centre, hi = centre;
+  for (int dv = -1; dv <= 1; ++dv) {
+    for (int du = -1; du <= 1; ++du) {
+      const float d = depth.at<float>(v + dv, u + du);
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+  }
+  if (lo <= 0 || hi - lo > options.max_depth_spread * centre) return false;
+  *z = centre;
+  return true;
 }
 
 std::vector<SiftMatch> MatchSiftRatio(const SiftFeatures& query, const SiftFeatures& train, double ratio,

@@ -46,6 +46,11 @@ struct SiftFeatures {
 SiftFeatures ExtractSiftWithDepth(const cv::Mat& gray, const cv::Mat& depth,
                                   const CameraIntrinsics& intrinsics, const SiftOptions& options);
 
+// The depth of a keypoint at `pixel`: the nearest pixel's, when it is within
+// [min_depth, max_depth] and its 3x3 neighbourhood spreads by at most max_depth_spread of it
+// (not on a depth edge). False otherwise.
+bool KeypointDepth(const cv::Mat& depth, const cv::Point2f& pixel, const SiftOptions& options, float* z);
+
 // Lowe's ratio test: each point of `query` is matched to its nearest neighbour in `train`
 // (L2 on descriptors) when that is closer than `ratio` times the second nearest. When fewer
 // than `relax_below_matches` pass, the test is redone with `relaxed_ratio` (the authors: 0.55,

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "f2c/io/image.h"
+#include "f2c/odometry/odometry_internal.h"
 #include "f2c/odometry/pair_cache.h"
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
@@ -18,16 +19,30 @@
 
 namespace f2c {
 
+using namespace internal;  // NOLINT: this file defines them
+
 std::string MethodName(AlignmentMethod method) {
   switch (method) {
     case AlignmentMethod::kSift: return "sift";
+    case AlignmentMethod::kTrack: return "track";
     case AlignmentMethod::kIcp: return "icp";
     case AlignmentMethod::kMotionPrior: return "motion_prior";
   }
   return "?";
 }
 
+void KeyframeOdometryOptions::Check() const {
+  track.Check();
+  if (!(max_translation > 0)) ThrowInputError("--keyframe-translation", "must be positive");
+  if (!(max_rotation_deg > 0)) ThrowInputError("--keyframe-rotation", "must be positive");
+  if (!(min_overlap >= 0 && min_overlap <= 1)) ThrowInputError("--keyframe-overlap", "must be in [0, 1]");
+  if (!(min_inlier_share >= 0 && min_inlier_share <= 1)) ThrowInputError("--keyframe-inlier-share", "must be in [0, 1]");
+  if (min_inliers < 3) ThrowInputError("--track-min-inliers", "must be >= 3");
+  if (max_interval < 0) ThrowInputError("--keyframe-max-interval", "must be >= 0");
+}
+
 void OdometryOptions::Check() const {
+  keyframes.Check();
   sift.Check();
   ransac.Check();
   icp.Check();
@@ -43,11 +58,6 @@ void OdometryOptions::Check() const {
 
 namespace {
 
-// Per-thread stage timings, added atomically.
-struct StageClock {
-  std::atomic<double> decode{0}, sift{0}, matching{0}, ransac{0}, icp{0}, fitness{0}, hashing{0};
-};
-
 struct MatchSet {
   std::vector<Eigen::Vector3d> prev, curr;
 };
@@ -60,6 +70,10 @@ MatchSet MatchFeatures(const SiftFeatures& prev, const SiftFeatures& curr, const
   }
   return set;
 }
+
+}  // namespace
+
+namespace internal {
 
 // SIFT + RANSAC. Leaves method = kMotionPrior when there are too few inliers, for the
 // fallback to resolve.
@@ -97,7 +111,8 @@ void ScoreOverlap(const cv::Mat& depth_prev, const cv::Mat& depth_curr, const Ca
 }
 
 bool NeedsFallback(const PairAlignment& pair, const OdometryOptions& options) {
-  return pair.method != AlignmentMethod::kSift || pair.fitness < options.min_fitness;
+  const bool matched = pair.method == AlignmentMethod::kSift || pair.method == AlignmentMethod::kTrack;
+  return !matched || pair.fitness < options.min_fitness;
 }
 
 // For a pair SIFT could not align, or whose SIFT answer the depth images contradict
@@ -128,6 +143,40 @@ void ApplyFallback(const cv::Mat& depth_prev, const cv::Mat& depth_curr, const C
   *pair = best;
 }
 
+void DecodeFrame(const RgbdSequence& seq, int index, StageClock* clock, cv::Mat* depth, cv::Mat* gray) {
+  Timer timer;
+  const RgbdFrame& frame = seq.frames[index];
+  *depth = LoadDepthMeters(seq, frame);
+  const cv::Mat color = LoadColor(frame, depth->size());
+  cv::cvtColor(color, *gray, cv::COLOR_BGR2GRAY);
+  clock->decode += timer.Seconds();
+}
+
+SiftFeatures DescribeFrame(const cv::Mat& gray, const cv::Mat& depth, const CameraIntrinsics& k,
+                           const OdometryOptions& options, StageClock* clock) {
+  Timer timer;
+  SiftFeatures sift = ExtractSiftWithDepth(gray, depth, k, options.sift);
+  clock->sift += timer.Seconds();
+  ++clock->sift_frames;
+  return sift;
+}
+
+void CopyTimings(const StageClock& clock, OdometryTimings* t) {
+  t->decode = clock.decode;
+  t->sift = clock.sift;
+  t->matching = clock.matching;
+  t->ransac = clock.ransac;
+  t->icp = clock.icp;
+  t->fitness = clock.fitness;
+  t->hashing = clock.hashing;
+  t->track = clock.track;
+  t->sift_frames = clock.sift_frames;
+}
+
+}  // namespace internal
+
+namespace {
+
 struct FrameData {
   cv::Mat depth;
   SiftFeatures sift;
@@ -136,16 +185,9 @@ struct FrameData {
 
 void LoadFrame(const RgbdSequence& seq, int index, const OdometryOptions& options, StageClock* clock,
                FrameData* data) {
-  Timer timer;
-  const RgbdFrame& frame = seq.frames[index];
-  data->depth = LoadDepthMeters(seq, frame);
-  const cv::Mat color = LoadColor(frame, data->depth.size());
   cv::Mat gray;
-  cv::cvtColor(color, gray, cv::COLOR_BGR2GRAY);
-  clock->decode += timer.Seconds();
-  timer.Restart();
-  data->sift = ExtractSiftWithDepth(gray, data->depth, *seq.intrinsics, options.sift);
-  clock->sift += timer.Seconds();
+  DecodeFrame(seq, index, clock, &data->depth, &gray);
+  data->sift = DescribeFrame(gray, data->depth, *seq.intrinsics, options, clock);
   data->loaded = true;
 }
 
@@ -166,18 +208,34 @@ PairAlignment AlignPair(const cv::Mat& gray_prev, const cv::Mat& depth_prev,
   return pair;
 }
 
+std::vector<int> OdometryKeyframes(const Odometry& odometry) {
+  std::vector<int> out;
+  for (const PairAlignment& p : odometry.pairs) {
+    if (p.keyframe) out.push_back(p.frame);
+  }
+  if (!out.empty() || odometry.timings.keyframes > 0) out.insert(out.begin(), 0);
+  return out;
+}
+
 Trajectory ConcatenatePairs(const RgbdSequence& sequence, const std::vector<PairAlignment>& pairs) {
-  F2C_CHECK(pairs.size() + 1 == sequence.frames.size(), "one pair per consecutive frames");
+  F2C_CHECK(pairs.size() + 1 == sequence.frames.size(), "one pair per frame after the first");
   Trajectory t0;
-  Rigid3d pose = Rigid3d::Identity();
-  t0.Add(sequence.frames[0].timestamp, pose);
+  t0.Add(sequence.frames[0].timestamp, Rigid3d::Identity());
   for (size_t k = 1; k < sequence.frames.size(); ++k) {
-    pose = pose * pairs[k - 1].prev_from_curr;
+    const PairAlignment& pair = pairs[k - 1];
+    F2C_CHECK(pair.frame == static_cast<int>(k) && pair.Reference() >= 0 && pair.Reference() < pair.frame,
+              "pairs[k-1] aligns frame k to an earlier frame");
+    Rigid3d pose = t0.world_from_camera[pair.Reference()] * pair.prev_from_curr;
     // Re-orthonormalise: thousands of products drift off SO(3) in the last digits.
     pose.linear() = Eigen::Quaterniond(pose.linear()).normalized().toRotationMatrix();
     t0.Add(sequence.frames[k].timestamp, pose);
   }
   return t0;
+}
+
+Odometry AlignFrames(const RgbdSequence& sequence, const OdometryOptions& options, const OdometryRun& run) {
+  return options.keyframes.enabled ? AlignWithKeyframes(sequence, options, run)
+                                   : AlignConsecutive(sequence, options, run);
 }
 
 Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& options,
@@ -241,6 +299,7 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
       PairAlignment& pair = odometry.pairs[k - 1];
       pair = AlignSift(frames[k - 1 - begin].sift, frames[k - begin].sift, options, options.seed + k, &clock);
       pair.frame = k;
+      pair.reference = k - 1;
       if (pair.method == AlignmentMethod::kSift) {
         ScoreOverlap(frames[k - 1 - begin].depth, frames[k - begin].depth, *seq.intrinsics, options, &clock, &pair);
       }
@@ -265,13 +324,7 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
 
   odometry.t0 = ConcatenatePairs(seq, odometry.pairs);
   OdometryTimings& t = odometry.timings;
-  t.decode = clock.decode;
-  t.sift = clock.sift;
-  t.matching = clock.matching;
-  t.ransac = clock.ransac;
-  t.icp = clock.icp;
-  t.fitness = clock.fitness;
-  t.hashing = clock.hashing;
+  CopyTimings(clock, &t);
   t.frames_processed = frames_processed;
   t.pairs_computed = n - 1 - cached;
   t.wall = wall.Seconds();
@@ -279,7 +332,23 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
 }
 
 nlohmann::json ToJson(const OdometryOptions& o) {
+  const KeyframeOdometryOptions& k = o.keyframes;
   return {
+      {"keyframes",
+       {{"enabled", k.enabled},
+        {"max_translation", k.max_translation},
+        {"max_rotation_deg", k.max_rotation_deg},
+        {"min_overlap", k.min_overlap},
+        {"min_inlier_share", k.min_inlier_share},
+        {"min_inliers", k.min_inliers},
+        {"max_interval", k.max_interval},
+        {"track",
+         {{"window", k.track.window},
+          {"pyramid_levels", k.track.pyramid_levels},
+          {"max_lk_iterations", k.track.max_lk_iterations},
+          {"lk_epsilon", k.track.lk_epsilon},
+          {"max_correction", k.track.max_correction},
+          {"max_forward_backward", k.track.max_forward_backward}}}}},
       {"sift",
        {{"max_features", o.sift.max_features},
         {"octave_layers", o.sift.octave_layers},
@@ -320,6 +389,8 @@ nlohmann::json ToJson(const PairAlignment& p) {
   std::vector<double> m(16);
   for (int i = 0; i < 16; ++i) m[i] = p.prev_from_curr.matrix()(i / 4, i % 4);
   return {{"frame", p.frame},
+          {"reference", p.Reference()},
+          {"keyframe", p.keyframe},
           {"method", MethodName(p.method)},
           {"prev_from_curr", m},
           {"keypoints_prev", p.keypoints_prev},
@@ -334,12 +405,17 @@ nlohmann::json ToJson(const PairAlignment& p) {
 PairAlignment PairAlignmentFromJson(const nlohmann::json& j) {
   PairAlignment p;
   p.frame = j.at("frame").get<int>();
+  p.reference = j.value("reference", p.frame - 1);
+  p.keyframe = j.value("keyframe", false);
+  if (p.reference < 0 || p.reference >= p.frame) throw std::invalid_argument("reference must precede frame");
   const auto m = j.at("prev_from_curr").get<std::vector<double>>();
   if (m.size() != 16) throw std::invalid_argument("prev_from_curr needs 16 numbers");
   for (int i = 0; i < 16; ++i) p.prev_from_curr.matrix()(i / 4, i % 4) = m[i];
   const std::string method = j.at("method").get<std::string>();
   if (method == MethodName(AlignmentMethod::kSift)) {
     p.method = AlignmentMethod::kSift;
+  } else if (method == MethodName(AlignmentMethod::kTrack)) {
+    p.method = AlignmentMethod::kTrack;
   } else if (method == MethodName(AlignmentMethod::kIcp)) {
     p.method = AlignmentMethod::kIcp;
   } else if (method == MethodName(AlignmentMethod::kMotionPrior)) {
@@ -363,11 +439,15 @@ nlohmann::json ToJson(const OdometryTimings& t, int frames) {
           {"frames_processed", t.frames_processed},
           {"pairs_computed", t.pairs_computed},
           {"pairs_cached", t.pairs_cached},
+          {"keyframes", t.keyframes},
+          {"sift_frames", t.sift_frames},
+          {"sift_per_frame", frames > 0 ? static_cast<double>(t.sift_frames) / frames : 0.0},
           {"cpu_ms_per_frame",
            {{"decode", t.decode * per},
             {"sift", t.sift * per},
             {"matching", t.matching * per},
             {"ransac", t.ransac * per},
+            {"track", t.track * per},
             {"icp", t.icp * per},
             {"fitness", t.fitness * per},
             {"hashing", t.hashing * per}}}};

@@ -19,17 +19,40 @@
 #include "f2c/io/sequence.h"
 #include "f2c/odometry/depth_alignment.h"
 #include "f2c/matching/ransac.h"
+#include "f2c/odometry/tracking.h"
 
 namespace f2c {
 
 enum class AlignmentMethod {
   kSift,         // SIFT matches + 3D RANSAC
+  kTrack,        // the keyframe's SIFT keypoints tracked into the frame (KLT) + 3D RANSAC
   kIcp,          // depth-only ICP fallback
   kMotionPrior,  // both failed: the previous motion was assumed
 };
 std::string MethodName(AlignmentMethod method);
 
+// Keyframe odometry (docs/odometry.md): each frame is aligned to the current keyframe by
+// tracking the keyframe's SIFT keypoints into it; a frame becomes the next keyframe when its
+// motion or overlap since the keyframe passes one of these limits, or when tracking fails
+// (then SIFT against the keyframe, then ICP against the previous frame, align it).
+struct KeyframeOdometryOptions {
+  bool enabled = true;            // false: consecutive pairs, every frame with SIFT
+  double max_translation = 0.1;   // metres from the keyframe
+  double max_rotation_deg = 10;   // degrees from the keyframe
+  // Depth overlap with the keyframe (the pair's fitness) below this starts a new keyframe.
+  double min_overlap = 0.9;
+  // Tracked RANSAC inliers below this share of the keyframe's keypoints start one.
+  double min_inlier_share = 0.3;
+  // Fewer tracked inliers than this (or fitness below min_fitness) and tracking failed.
+  int min_inliers = 20;
+  int max_interval = 0;  // frames from the keyframe that force a new one; 0: no limit
+  TrackOptions track;
+
+  void Check() const;
+};
+
 struct OdometryOptions {
+  KeyframeOdometryOptions keyframes;
   SiftOptions sift;
   // Lowe's ratio test; the authors use 0.55, relaxed to 0.8 when fewer than 50 matches pass.
   double ratio = 0.55;
@@ -54,28 +77,35 @@ struct OdometryOptions {
 };
 
 struct PairAlignment {
-  int frame = 0;  // k: this pair aligns frame k to frame k-1
+  int frame = 0;      // k: this pair aligns frame k to frame `reference`
+  int reference = -1;  // < k: k-1 (consecutive pairs), or k's keyframe; -1 (old caches): k-1
+  bool keyframe = false;  // frame k starts a new keyframe (keyframe odometry)
+  // reference_from_frame (the name predates keyframes, when the reference was always k-1).
   Rigid3d prev_from_curr = Rigid3d::Identity();
   AlignmentMethod method = AlignmentMethod::kSift;
   int keypoints_prev = 0, keypoints_curr = 0;  // SIFT keypoints with valid depth
-  int matches = 0;                             // after the ratio test
+  int matches = 0;  // after the ratio test (tracked keypoints with valid depth, for kTrack)
   int inliers = 0;                             // RANSAC inliers
   double inlier_rmse = 0;                      // metres
-  double fitness = 0;  // fraction of frame k's depth samples within fitness_threshold of frame k-1's
+  double fitness = 0;  // fraction of frame k's depth samples within fitness_threshold of the reference's
   double overlap_rmse = 0;  // metres, of those samples
+
+  int Reference() const { return reference >= 0 ? reference : frame - 1; }
 };
 
 // Seconds summed over work items (CPU time of the stage, all threads), plus wall time.
 struct OdometryTimings {
-  double decode = 0, sift = 0, matching = 0, ransac = 0, icp = 0, fitness = 0, hashing = 0;
+  double decode = 0, sift = 0, matching = 0, ransac = 0, icp = 0, fitness = 0, hashing = 0, track = 0;
   double wall = 0;
+  int sift_frames = 0;  // frames SIFT described (every decoded frame without keyframes)
+  int keyframes = 0;    // keyframe odometry: frames that started a keyframe (frame 0 included)
   int frames_processed = 0;  // frames decoded and described (not all, on a cache hit)
   int pairs_computed = 0;
   int pairs_cached = 0;
 };
 
 struct Odometry {
-  std::vector<PairAlignment> pairs;  // pairs[k-1] aligns frame k to k-1
+  std::vector<PairAlignment> pairs;  // pairs[k-1] aligns frame k to its reference
   Trajectory t0;                     // world_from_camera per frame, T0[0] = identity
   OdometryTimings timings;
 };
@@ -94,6 +124,16 @@ struct OdometryRun {
   std::function<void(int frame, const SiftFeatures& sift)> on_sift;
 };
 
+// Aligns every frame of `sequence` (intrinsics required): AlignWithKeyframes when
+// options.keyframes.enabled, AlignConsecutive otherwise.
+Odometry AlignFrames(const RgbdSequence& sequence, const OdometryOptions& options, const OdometryRun& run = {});
+
+// Each frame to the current keyframe, in frame order (decoding runs ahead in parallel).
+// Pairs are cached by the chain of all frames' bytes up to theirs (a keyframe decision
+// depends on every earlier frame), so a run reuses the longest prefix computed before.
+Odometry AlignWithKeyframes(const RgbdSequence& sequence, const OdometryOptions& options,
+                            const OdometryRun& run = {});
+
 // Aligns every consecutive pair of `sequence` (intrinsics required) in parallel.
 Odometry AlignConsecutive(const RgbdSequence& sequence, const OdometryOptions& options,
                           const OdometryRun& run = {});
@@ -105,6 +145,10 @@ PairAlignment AlignPair(const cv::Mat& gray_prev, const cv::Mat& depth_prev,
                         const CameraIntrinsics& intrinsics, const OdometryOptions& options,
                         const Rigid3d& previous_motion, uint64_t seed);
 
+// The frames that started a keyframe (frame 0 first); empty without keyframe odometry.
+std::vector<int> OdometryKeyframes(const Odometry& odometry);
+
+// T0[0] = identity, T0[k] = T0[reference] * reference_from_frame.
 Trajectory ConcatenatePairs(const RgbdSequence& sequence, const std::vector<PairAlignment>& pairs);
 
 nlohmann::json ToJson(const OdometryOptions& options);

@@ -16,7 +16,7 @@
 namespace f2c {
 
 void KeyframeOptions::Check() const {
-  if (interval < 1) ThrowInputError("--keyframe-interval", "must be >= 1");
+  if (interval < 0) ThrowInputError("--keyframe-interval", "must be >= 0");
   if (max_keypoints < 3) ThrowInputError("--keyframe-keypoints", "must be >= 3");
 }
 
@@ -85,7 +85,7 @@ std::map<uint64_t, Keyframe> ReadCache(const std::filesystem::path& path, uint64
     Keyframe k;
     k.frame = static_cast<int>(frame);
     k.points.resize(points);
-    std::memcpy(k.points.data(), bytes.data() + at, points * 12);
+    std::memcpy(static_cast<void*>(k.points.data()), bytes.data() + at, points * 12);
     at += points * 12;
     k.descriptors.create(static_cast<int>(points), 128, CV_8U);
     std::memcpy(k.descriptors.data, bytes.data() + at, points * 128);
@@ -98,12 +98,11 @@ std::map<uint64_t, Keyframe> ReadCache(const std::filesystem::path& path, uint64
 }  // namespace
 
 KeyframeStore::KeyframeStore(const RgbdSequence& sequence, const KeyframeOptions& options, const SiftOptions& sift,
-                             std::filesystem::path cache_file)
-    : seq_(sequence), options_(options), sift_(sift), cache_file_(std::move(cache_file)) {
+                             std::filesystem::path cache_file, int interval)
+    : seq_(sequence), options_(options), sift_(sift), cache_file_(std::move(cache_file)), interval_(interval) {
   options.Check();
   RequireIntrinsics(sequence);
-  const nlohmann::json context = {{"interval", options.interval},
-                                  {"max_keypoints", options.max_keypoints},
+  const nlohmann::json context = {{"max_keypoints", options.max_keypoints},
                                   {"sift",
                                    {{"max_features", sift.max_features},
                                     {"octave_layers", sift.octave_layers},
@@ -115,55 +114,58 @@ KeyframeStore::KeyframeStore(const RgbdSequence& sequence, const KeyframeOptions
                                     {"max_depth", sift.max_depth},
                                     {"max_depth_spread", sift.max_depth_spread}}}};
   context_ = Fnv1a64(CacheContext(sequence, context.dump()));
-  const int n = static_cast<int>(sequence.frames.size());
-  for (int f = 0; f < n; f += options.interval) frames_.push_back(f);
-  keyframes_.resize(frames_.size());
-  keys_.resize(frames_.size());
-  if (cache_file_.empty()) return;
-  tbb::parallel_for(0, static_cast<int>(frames_.size()), [&](int i) {
-    const RgbdFrame& f = seq_.frames[frames_[i]];
-    keys_[i] = (HashFile(f.depth_path) ^ (HashFile(f.color_path) * 31)) ^ (context_ * 0x9E3779B97F4A7C15ULL);
-  });
-  std::map<uint64_t, Keyframe> cache = ReadCache(cache_file_, context_);
-  for (size_t i = 0; i < frames_.size(); ++i) {
-    auto it = cache.find(keys_[i]);
-    if (it != cache.end()) {
-      keyframes_[i] = std::move(it->second);
-      keyframes_[i].frame = frames_[i];
-      ++cached_;
-    }
-  }
 }
 
 void KeyframeStore::Offer(int frame, const SiftFeatures& sift) {
-  if (!IsKeyframe(frame)) return;
-  const size_t i = frame / options_.interval;
-  if (i >= keyframes_.size() || keyframes_[i].frame >= 0) return;
-  keyframes_[i] = MakeKeyframe(frame, sift, options_.max_keypoints);
+  if (interval_ > 0 && frame % interval_ != 0) return;
+  Keyframe keyframe = MakeKeyframe(frame, sift, options_.max_keypoints);
+  std::lock_guard<std::mutex> lock(mutex_);
+  offered_.emplace(frame, std::move(keyframe));
 }
 
-std::vector<Keyframe> KeyframeStore::Finish() {
-  std::vector<int> missing;
-  for (size_t i = 0; i < frames_.size(); ++i) {
-    if (keyframes_[i].frame < 0) missing.push_back(static_cast<int>(i));
+std::vector<Keyframe> KeyframeStore::Finish(const std::vector<int>& frames) {
+  const int n = static_cast<int>(frames.size());
+  std::vector<Keyframe> keyframes(n);
+  std::vector<uint64_t> keys(n);
+  if (!cache_file_.empty()) {
+    tbb::parallel_for(0, n, [&](int i) {
+      const RgbdFrame& f = seq_.frames[frames[i]];
+      keys[i] = (HashFile(f.depth_path) ^ (HashFile(f.color_path) * 31)) ^ (context_ * 0x9E3779B97F4A7C15ULL);
+    });
   }
+  std::map<uint64_t, Keyframe> cache = ReadCache(cache_file_, context_);
+  std::vector<int> missing;
+  for (int i = 0; i < n; ++i) {
+    F2C_CHECK(frames[i] >= 0 && frames[i] < static_cast<int>(seq_.frames.size()) && (i == 0 || frames[i] > frames[i - 1]),
+              "keyframes ascending and in the sequence");
+    if (auto it = offered_.find(frames[i]); it != offered_.end()) {
+      keyframes[i] = std::move(it->second);
+    } else if (auto hit = cache.find(keys[i]); !cache_file_.empty() && hit != cache.end()) {
+      keyframes[i] = std::move(hit->second);
+      keyframes[i].frame = frames[i];
+      ++cached_;
+    } else {
+      missing.push_back(i);
+    }
+  }
+  offered_.clear();
   tbb::parallel_for(0, static_cast<int>(missing.size()), [&](int m) {
     const int i = missing[m];
-    const RgbdFrame& frame = seq_.frames[frames_[i]];
+    const RgbdFrame& frame = seq_.frames[frames[i]];
     const cv::Mat depth = LoadDepthMeters(seq_, frame);
     cv::Mat gray;
     cv::cvtColor(LoadColor(frame, depth.size()), gray, cv::COLOR_BGR2GRAY);
-    keyframes_[i] = MakeKeyframe(frames_[i], ExtractSiftWithDepth(gray, depth, *seq_.intrinsics, sift_), options_.max_keypoints);
+    keyframes[i] = MakeKeyframe(frames[i], ExtractSiftWithDepth(gray, depth, *seq_.intrinsics, sift_), options_.max_keypoints);
   });
   computed_ = static_cast<int>(missing.size());
-  if (!cache_file_.empty() && cached_ < static_cast<int>(frames_.size())) {
+  if (!cache_file_.empty() && cached_ < n) {
     std::string out(kMagic, 8);
     Put(&out, kVersion);
     Put(&out, context_);
-    Put(&out, static_cast<uint32_t>(frames_.size()));
-    for (size_t i = 0; i < frames_.size(); ++i) {
-      const Keyframe& k = keyframes_[i];
-      Put(&out, keys_[i]);
+    Put(&out, static_cast<uint32_t>(n));
+    for (int i = 0; i < n; ++i) {
+      const Keyframe& k = keyframes[i];
+      Put(&out, keys[i]);
       Put(&out, static_cast<uint32_t>(k.frame));
       Put(&out, static_cast<uint32_t>(k.points.size()));
       out.append(reinterpret_cast<const char*>(k.points.data()), k.points.size() * 12);
@@ -172,7 +174,19 @@ std::vector<Keyframe> KeyframeStore::Finish() {
     std::filesystem::create_directories(cache_file_.parent_path().empty() ? "." : cache_file_.parent_path());
     WriteFileAtomic(cache_file_, out);
   }
-  return std::move(keyframes_);
+  return keyframes;
+}
+
+std::vector<int> LoopKeyframes(int frames, const KeyframeOptions& options, const std::vector<int>& odometry_keyframes) {
+  std::vector<int> out;
+  if (options.interval == 0 && !odometry_keyframes.empty()) {
+    out = odometry_keyframes;
+    if (out.front() != 0) out.insert(out.begin(), 0);
+    return out;
+  }
+  const int interval = options.interval > 0 ? options.interval : 5;
+  for (int f = 0; f < frames; f += interval) out.push_back(f);
+  return out;
 }
 
 nlohmann::json ToJson(const KeyframeOptions& o) {

@@ -1,5 +1,5 @@
 #pragma once
-// SIFT of every interval-th frame (keyframes), kept for the loop-pair matcher
+// SIFT of keyframes (the odometry's, or every interval-th frame), kept for the loop-pair matcher
 // (refine/sift_loops.h): compact (at most max_keypoints points, descriptors as bytes: OpenCV's
 // SIFT values are whole numbers in 0..255, so nothing is lost) and cached on disk, so a re-run
 // with other refinement options does not decode images again.
@@ -12,6 +12,8 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <map>
+#include <mutex>
 #include <nlohmann/json_fwd.hpp>
 #include <opencv2/core.hpp>
 #include <vector>
@@ -22,7 +24,9 @@
 namespace f2c {
 
 struct KeyframeOptions {
-  int interval = 5;         // every interval-th frame is a keyframe (frame 0 first)
+  // Every interval-th frame is a keyframe (frame 0 first); 0: the odometry's keyframes (every
+  // 5th frame when the odometry has none, --keyframes off).
+  int interval = 0;
   int max_keypoints = 300;  // an even subsample when SIFT found more
 
   void Check() const;
@@ -39,15 +43,15 @@ Keyframe MakeKeyframe(int frame, const SiftFeatures& sift, int max_keypoints);
 
 class KeyframeStore {
  public:
-  // Reads `cache_file` (empty: no cache) for keyframes already computed.
+  // `cache_file` (empty: no cache) holds keyframes computed before. `interval` > 0 keeps only
+  // every interval-th frame offered; 0 keeps every frame offered.
   KeyframeStore(const RgbdSequence& sequence, const KeyframeOptions& options, const SiftOptions& sift,
-                std::filesystem::path cache_file);
-  bool IsKeyframe(int frame) const { return frame % options_.interval == 0; }
-  // Keeps a keyframe's SIFT computed elsewhere (the odometry); any thread, distinct frames.
+                std::filesystem::path cache_file, int interval);
+  // Keeps a keyframe's SIFT computed elsewhere (the odometry); any thread.
   void Offer(int frame, const SiftFeatures& sift);
-  // Decodes and describes the keyframes still missing (in parallel), writes the cache, and
-  // returns them all in frame order.
-  std::vector<Keyframe> Finish();
+  // The keyframes `frames` (ascending): those offered, then those in the cache, and the rest
+  // decoded and described (in parallel). Writes the cache; returns them in frame order.
+  std::vector<Keyframe> Finish(const std::vector<int>& frames);
   int computed() const { return computed_; }  // decoded again by Finish()
   int cached() const { return cached_; }
 
@@ -57,11 +61,15 @@ class KeyframeStore {
   SiftOptions sift_;
   std::filesystem::path cache_file_;
   uint64_t context_ = 0;
-  std::vector<int> frames_;           // keyframes
-  std::vector<uint64_t> keys_;        // per keyframe
-  std::vector<Keyframe> keyframes_;   // per keyframe; frame -1 while missing
+  int interval_ = 0;
+  std::mutex mutex_;
+  std::map<int, Keyframe> offered_;
   int computed_ = 0, cached_ = 0;
 };
+
+// The loop matcher's keyframes: every interval-th frame, or (interval 0) frame 0 and each
+// frame the odometry started a keyframe at; every 5th frame when it started none.
+std::vector<int> LoopKeyframes(int frames, const KeyframeOptions& options, const std::vector<int>& odometry_keyframes);
 
 nlohmann::json ToJson(const KeyframeOptions& options);
 

@@ -22,6 +22,7 @@ double PairConfidence(const PairAlignment& pair, const LocalAlignmentOptions& o)
   double c = 1.0;
   switch (pair.method) {
     case AlignmentMethod::kSift:
+    case AlignmentMethod::kTrack:
       c = 1.0 / (1.0 + std::exp(-o.inlier_slope * (pair.inliers - o.inlier_midpoint)));
       break;
     case AlignmentMethod::kIcp: c = o.icp_weight; break;
@@ -35,32 +36,52 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
                                                      const LocalAlignmentOptions& options) {
   options.Check();
   const int n = static_cast<int>(pairs.size()) + 1;
-  std::vector<double> confidence(pairs.size());
-  for (size_t k = 0; k < pairs.size(); ++k) confidence[k] = PairConfidence(pairs[k], options);
+  std::vector<double> confidence(n, 1.0);  // of frame k's pair; frame 0 has none
+  std::vector<int> reference(n, -1);
+  std::vector<Rigid3d> world_from(n, Rigid3d::Identity());  // T0, chained along the references
+  for (int k = 1; k < n; ++k) {
+    const PairAlignment& pair = pairs[k - 1];
+    F2C_CHECK(pair.Reference() >= 0 && pair.Reference() < k, "a pair's reference precedes its frame");
+    confidence[k] = PairConfidence(pair, options);
+    reference[k] = pair.Reference();
+    world_from[k] = world_from[reference[k]] * pair.prev_from_curr;
+  }
+  // The weakest alignment on the path between a and b in the tree of references.
+  auto path_confidence = [&](int a, int b) {
+    double w = 1.0;
+    while (a != b) {
+      int& later = a > b ? a : b;
+      w = std::min(w, confidence[later]);
+      later = reference[later];
+    }
+    return w;
+  };
   std::vector<RelativePoseConstraint> out;
+  auto add = [&](int a, int b) {
+    const Rigid3d a_from_b = world_from[a].inverse() * world_from[b];
+    double weight = path_confidence(a, b);
+    if (options.distance_sigma > 0) {
+      const double d = a_from_b.translation().norm();
+      weight *= std::exp(-d * d / (2 * options.distance_sigma * options.distance_sigma));
+    }
+    if (weight <= 0) return;
+    RelativePoseConstraint c;
+    c.frame_a = a;
+    c.frame_b = b;
+    c.rotation_a_from_b = Eigen::Quaterniond(a_from_b.linear()).normalized();
+    c.translation_a_from_b = a_from_b.translation();
+    c.weight = weight;
+    out.push_back(c);
+  };
+  const int max_span = 1 << options.max_power;
   for (int j = 0; j < n; ++j) {
+    // Each frame's own alignment (to its keyframe), unless a span below holds it already.
+    const int span = j - reference[j];
+    if (j > 0 && (span > max_span || (span & (span - 1)) != 0)) add(reference[j], j);
     for (int p = 0; p <= options.max_power; ++p) {
       const int b = j + (1 << p);
       if (b >= n) break;
-      // a_from_b = L[j+1] L[j+2] ... L[b], the weakest link's confidence.
-      Rigid3d a_from_b = Rigid3d::Identity();
-      double weight = 1.0;
-      for (int k = j + 1; k <= b; ++k) {
-        a_from_b = a_from_b * pairs[k - 1].prev_from_curr;
-        weight = std::min(weight, confidence[k - 1]);
-      }
-      if (options.distance_sigma > 0) {
-        const double d = a_from_b.translation().norm();
-        weight *= std::exp(-d * d / (2 * options.distance_sigma * options.distance_sigma));
-      }
-      if (weight <= 0) continue;
-      RelativePoseConstraint c;
-      c.frame_a = j;
-      c.frame_b = b;
-      c.rotation_a_from_b = Eigen::Quaterniond(a_from_b.linear()).normalized();
-      c.translation_a_from_b = a_from_b.translation();
-      c.weight = weight;
-      out.push_back(c);
+      add(j, b);
     }
   }
   return out;

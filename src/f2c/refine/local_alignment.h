@@ -1,8 +1,10 @@
 #pragma once
 // E_L's constraints (paper §4.3, "Local Alignment Error"): the relative transforms that T0
-// holds between frames j and j + 2^k, k = 0..max_power, kept as the refinement moves poses, so
-// the trajectory keeps its local shape. Each is weighted by how much the odometry trusted the
-// pairs it chains (odometry.json), the weakest link deciding:
+// holds between frames j and j + 2^k, k = 0..max_power, and between each frame and the frame
+// its odometry aligned it to (its keyframe), kept as the refinement moves poses, so the
+// trajectory keeps its local shape. Each is weighted by how much the odometry trusted the
+// alignments on the path between the two frames in the tree of odometry references
+// (odometry.json), the weakest link deciding:
 //   confidence(pair) = method factor (SIFT 1, ICP fallback icp_weight, motion prior
 //                      prior_weight)
 //                    x sigmoid(inlier_slope (inliers - inlier_midpoint))   (SIFT pairs; the
@@ -36,7 +38,8 @@ struct LocalAlignmentOptions {
 
 double PairConfidence(const PairAlignment& pair, const LocalAlignmentOptions& options);
 
-// pairs[k-1] aligns frame k to k-1 (odometry.h); one constraint per (j, j + 2^k) inside the scan.
+// pairs[k-1] aligns frame k to its reference (odometry.h); one constraint per (j, j + 2^k)
+// inside the scan, and one per (reference, k) that is not among those.
 std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlignment>& pairs,
                                                      const LocalAlignmentOptions& options);
 

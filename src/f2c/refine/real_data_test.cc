@@ -26,17 +26,19 @@ TEST(RealData, RefinementCutsT0sErrorOnFr1Xyz) {
   features.quiet = true;
   features.on_frame = [&](int frame, FrameFeatures&& f) { index.frames[frame] = BuildFrameIndex(f, options.features); };
   FeatureExtraction extraction(seq, FeatureOptions(), features);
-  KeyframeStore keyframes(seq, options.loops.keyframes, OdometryOptions().sift, {});
+  KeyframeStore keyframes(seq, options.loops.keyframes, OdometryOptions().sift, {}, options.loops.keyframes.interval);
   OdometryRun run;
   run.quiet = true;
   run.on_depth = [&](int frame, const cv::Mat& depth) { extraction.Compute(frame, depth); };
   run.on_sift = [&](int frame, const SiftFeatures& sift) { keyframes.Offer(frame, sift); };
-  const Odometry odometry = AlignConsecutive(seq, OdometryOptions(), run);
+  const Odometry odometry = AlignFrames(seq, OdometryOptions(), run);
   extraction.Finish();
   RefineRun quiet;
   quiet.quiet = true;
   const RefineResult refined =
-      RefineFineToCoarse(index, odometry.pairs, odometry.t0, *seq.intrinsics, options, quiet, keyframes.Finish());
+      RefineFineToCoarse(index, odometry.pairs, odometry.t0, *seq.intrinsics, options, quiet,
+                         keyframes.Finish(LoopKeyframes(static_cast<int>(seq.frames.size()), options.loops.keyframes,
+                                                        OdometryKeyframes(odometry))));
   Trajectory trajectory;
   for (size_t k = 0; k < refined.poses.size(); ++k) trajectory.Add(odometry.t0.timestamps[k], refined.poses[k].ToRigid());
   const double before = Evaluate(odometry.t0, *seq.ground_truth).ate.translation.rmse;

@@ -82,7 +82,7 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
   Timer total;
   const int n = static_cast<int>(t0.size());
   F2C_CHECK(static_cast<int>(index.frames.size()) == n && static_cast<int>(pairs.size()) + 1 == n,
-            "one index entry per frame, one odometry pair per consecutive frames");
+            "one index entry per frame, one odometry pair per frame after the first");
   RefineResult result;
   for (const Rigid3d& pose : t0.world_from_camera) result.poses.push_back(Pose::FromRigid(pose));
   const std::vector<double> path = CameraPath(t0);
@@ -90,7 +90,11 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
   Constraints constraints;
   constraints.local = LocalConstraints(pairs, options.local);
   std::vector<double> confidence;
-  for (const PairAlignment& p : pairs) confidence.push_back(PairConfidence(p, options.local));
+  std::vector<int> link_from;  // each frame's odometry reference
+  for (const PairAlignment& p : pairs) {
+    confidence.push_back(PairConfidence(p, options.local));
+    link_from.push_back(p.Reference());
+  }
   SiftLoopMatcher loops(std::move(keyframes), confidence, options.loops);
   int first_structure = options.structure_first_iteration;  // < 0: the first full window
   if (first_structure < 0) {
@@ -118,9 +122,7 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
       Timer presolve;
       const PoseVector unplaced = result.poses;
       if (options.loops.spanning_tree) {
-        std::vector<double> link(n - 1);
-        for (int k = 1; k < n; ++k) link[k - 1] = confidence[k - 1];
-        result.poses = SpanningTreePoses(result.poses, link, loops.edges());
+        result.poses = SpanningTreePoses(result.poses, confidence, loops.edges(), link_from);
       }
       // Only loops that disagree with the poses need the converged solve (the spanning tree
       // moved poses, or matches are far off); the others join this iteration's one step.

@@ -99,14 +99,17 @@ TEST(KeyframeStore, OfferedKeyframesAreCachedAndReadBack) {
   const SiftFeatures sift = ExtractSiftWithDepth(gray, depth, *seq.intrinsics, SiftOptions());
   std::vector<Keyframe> first;
   {
-    KeyframeStore store(seq, options, SiftOptions(), dir / "keyframes.f2ck");
+    KeyframeStore store(seq, options, SiftOptions(), dir / "keyframes.f2ck", options.interval);
     store.Offer(0, sift);
-    first = store.Finish();
+    store.Offer(1, sift);  // not every 2nd frame: not kept
+    first = store.Finish(LoopKeyframes(3, options, {}));
     EXPECT_EQ(store.computed(), 1);
+    EXPECT_EQ(store.cached(), 0);
   }
-  KeyframeStore again(seq, options, SiftOptions(), dir / "keyframes.f2ck");
+  KeyframeStore again(seq, options, SiftOptions(), dir / "keyframes.f2ck", options.interval);
+  const std::vector<Keyframe> second = again.Finish({0, 2});
   EXPECT_EQ(again.cached(), 2);
-  const std::vector<Keyframe> second = again.Finish();
+  EXPECT_EQ(again.computed(), 0);
   ASSERT_EQ(first.size(), 2u);
   for (int i = 0; i < 2; ++i) {
     EXPECT_EQ(second[i].frame, 2 * i);
@@ -115,6 +118,16 @@ TEST(KeyframeStore, OfferedKeyframesAreCachedAndReadBack) {
     for (size_t k = 0; k < first[i].points.size(); ++k) EXPECT_EQ(second[i].points[k], first[i].points[k]);
   }
   EXPECT_GE(first[0].points.size(), 20u);
+}
+
+TEST(LoopKeyframes, TheOdometrysKeyframesOrEveryIntervalthFrame) {
+  KeyframeOptions options;
+  options.interval = 0;
+  EXPECT_EQ(LoopKeyframes(12, options, {3, 7}), (std::vector<int>{0, 3, 7}));
+  EXPECT_EQ(LoopKeyframes(12, options, {0, 3, 7}), (std::vector<int>{0, 3, 7}));
+  EXPECT_EQ(LoopKeyframes(12, options, {}), (std::vector<int>{0, 5, 10}));  // keyframe odometry off
+  options.interval = 4;
+  EXPECT_EQ(LoopKeyframes(12, options, {3, 7}), (std::vector<int>{0, 4, 8}));
 }
 
 }  // namespace

@@ -37,12 +37,15 @@ struct Edge {
 }  // namespace
 
 PoseVector SpanningTreePoses(const PoseVector& poses, const std::vector<double>& link_confidence,
-                             const std::vector<LoopEdge>& loops) {
+                             const std::vector<LoopEdge>& loops, const std::vector<int>& link_from) {
   const int n = static_cast<int>(poses.size());
-  F2C_CHECK(static_cast<int>(link_confidence.size()) + 1 == n || n == 0, "one confidence per consecutive pair");
+  F2C_CHECK(static_cast<int>(link_confidence.size()) + 1 == n || n == 0, "one confidence per frame after the first");
+  F2C_CHECK(link_from.empty() || link_from.size() == link_confidence.size(), "one link source per link");
   std::vector<Edge> edges;
   for (int k = 1; k < n; ++k) {
-    edges.push_back({k - 1, k, poses[k - 1].ToRigid().inverse() * poses[k].ToRigid(), link_confidence[k - 1], k});
+    const int from = link_from.empty() ? k - 1 : link_from[k - 1];
+    F2C_CHECK(from >= 0 && from < k, "a link joins a frame to an earlier one");
+    edges.push_back({from, k, poses[from].ToRigid().inverse() * poses[k].ToRigid(), link_confidence[k - 1], k});
   }
   for (size_t i = 0; i < loops.size(); ++i) {
     const LoopEdge& l = loops[i];

@@ -25,8 +25,9 @@ struct LoopEdge {
   double confidence = 0.95;
 };
 
-// `link_confidence[k-1]` joins frames k-1 and k. Returns poses with frame 0's unchanged.
+// `link_confidence[k-1]` joins frame k to frame link_from[k-1] (its odometry reference; an
+// empty link_from: k-1). Returns poses with frame 0's unchanged.
 PoseVector SpanningTreePoses(const PoseVector& poses, const std::vector<double>& link_confidence,
-                             const std::vector<LoopEdge>& loops);
+                             const std::vector<LoopEdge>& loops, const std::vector<int>& link_from = {});
 
 }  // namespace f2c
