@@ -28,9 +28,14 @@ using nlohmann::json;
 
 namespace {
 
-json PairsToJson(const std::vector<PairAlignment>& pairs) {
+// Each frame's alignment, with `confidence`: the weight E_L gives it (refine/local_alignment.h).
+json PairsToJson(const std::vector<PairAlignment>& pairs, const LocalAlignmentOptions& local) {
   json out = json::array();
-  for (const PairAlignment& p : pairs) out.push_back(ToJson(p));
+  for (const PairAlignment& p : pairs) {
+    json j = ToJson(p);
+    j["confidence"] = PairConfidence(p, local);
+    out.push_back(std::move(j));
+  }
   return out;
 }
 
@@ -190,7 +195,7 @@ int RunRegister(const RegisterArgs& args) {
     }
   }
   WriteTrajectories(out, seq, result);
-  WriteFileAtomic(out / "odometry.json", PairsToJson(odometry.pairs).dump(1) + "\n");
+  WriteFileAtomic(out / "odometry.json", PairsToJson(odometry.pairs, args.refine.local).dump(1) + "\n");
 
   const CameraIntrinsics& k = *seq.intrinsics;
   json outputs = {"trajectory.txt", "trajectory.log", "trajectory.conf", "trajectory_t0.txt", "odometry.json"};
@@ -285,6 +290,22 @@ Subcommand AddRegisterCommand(CLI::App* app) {
       ->capture_default_str()
       ->group(kg);
   cmd->add_option("--keyframe-max-interval", kf.max_interval, "frames after which a new keyframe starts (0: no limit)")
+      ->capture_default_str()
+      ->group(kg);
+  cmd->add_option("--icp-to-keyframe", kf.icp_to_keyframe,
+                  "frames without texture: depth ICP against the keyframe first (on), or against the previous frame (off)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, bool>{{"on", true}, {"off", false}}))
+      ->default_str(kf.icp_to_keyframe ? "on" : "off")
+      ->group(kg);
+  cmd->add_option("--velocity-frames", kf.velocity_frames, "the motion prior is the mean motion over this many frames")
+      ->capture_default_str()
+      ->group(kg);
+  cmd->add_option("--icp-downscale", od.icp.downscale, "depth ICP on the depth images shrunk by this factor")
+      ->capture_default_str()
+      ->group(kg);
+  cmd->add_option("--icp-prior", od.icp.prior_information,
+                  "ICP keeps lambda / (lambda + this) of its motion along each direction the depth constrains by "
+                  "lambda, the motion prior the rest (0: ICP alone)")
       ->capture_default_str()
       ->group(kg);
   cmd->add_option("--track-min-inliers", kf.min_inliers, "fewer tracked inliers: SIFT against the keyframe instead")

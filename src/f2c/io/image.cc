@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <tuple>
+#include <vector>
 #include <opencv2/imgcodecs.hpp>
 
 #include "f2c/util/error.h"
@@ -41,22 +43,34 @@ cv::Mat LoadDepthMeters(const RgbdSequence& sequence, const RgbdFrame& frame) {
                                 raw.rows, sequence.intrinsics_source, sequence.intrinsics->width,
                                 sequence.intrinsics->height));
   }
+  // Every stored value's metres, once per sequence layout (a 256 KiB table): decoding,
+  // invalid values and scale in one look-up per pixel.
+  thread_local std::vector<float> table;
+  thread_local std::tuple<DepthEncoding, double, std::vector<uint16_t>> table_for;
+  const auto key = std::make_tuple(sequence.depth_encoding, sequence.depth_scale, sequence.invalid_depth_values);
+  if (table.empty() || table_for != key) {
+    table.resize(65536);
+    const auto& invalid = sequence.invalid_depth_values;
+    for (int raw_value = 0; raw_value < 65536; ++raw_value) {
+      const uint16_t v = DecodeDepthValue(static_cast<uint16_t>(raw_value), sequence.depth_encoding);
+      const bool bad = std::find(invalid.begin(), invalid.end(), v) != invalid.end();
+      table[raw_value] = bad ? 0.0f : static_cast<float>(v * sequence.depth_scale);
+    }
+    table_for = key;
+  }
   cv::Mat depth(raw.size(), CV_32F);
-  const auto& invalid = sequence.invalid_depth_values;
   for (int y = 0; y < raw.rows; ++y) {
     const uint16_t* in = raw.ptr<uint16_t>(y);
     float* out = depth.ptr<float>(y);
-    for (int x = 0; x < raw.cols; ++x) {
-      const uint16_t v = DecodeDepthValue(in[x], sequence.depth_encoding);
-      const bool bad = std::find(invalid.begin(), invalid.end(), v) != invalid.end();
-      out[x] = bad ? 0.0f : static_cast<float>(v * sequence.depth_scale);
-    }
+    for (int x = 0; x < raw.cols; ++x) out[x] = table[in[x]];
   }
   return depth;
 }
 
-cv::Mat LoadColor(const RgbdFrame& frame, cv::Size depth_size) {
-  cv::Mat color = Decode(frame.color_path, cv::IMREAD_COLOR);
+namespace {
+
+cv::Mat LoadColorAs(const RgbdFrame& frame, cv::Size depth_size, int flags) {
+  cv::Mat color = Decode(frame.color_path, flags);
   if (!depth_size.empty() && color.size() != depth_size) {
     ThrowInputError(frame.color_path,
                     fmt::format("colour image is {}x{} but its depth image {} is {}x{}", color.cols,
@@ -64,6 +78,14 @@ cv::Mat LoadColor(const RgbdFrame& frame, cv::Size depth_size) {
                                 depth_size.height));
   }
   return color;
+}
+
+}  // namespace
+
+cv::Mat LoadColor(const RgbdFrame& frame, cv::Size depth_size) { return LoadColorAs(frame, depth_size, cv::IMREAD_COLOR); }
+
+cv::Mat LoadGray(const RgbdFrame& frame, cv::Size depth_size) {
+  return LoadColorAs(frame, depth_size, cv::IMREAD_GRAYSCALE);
 }
 
 }  // namespace f2c

@@ -15,6 +15,8 @@ cv::Mat LoadDepthMeters(const RgbdSequence& sequence, const RgbdFrame& frame);
 // Colour as 8-bit BGR. Checks that it decodes and that its size equals the depth's
 // (`depth_size`, skipped when empty).
 cv::Mat LoadColor(const RgbdFrame& frame, cv::Size depth_size = {});
+// The colour image decoded straight to 8-bit grey (the same checks as LoadColor).
+cv::Mat LoadGray(const RgbdFrame& frame, cv::Size depth_size);
 
 // Decodes one 16-bit value to millimetre-like units per the encoding (before depth_scale).
 inline uint16_t DecodeDepthValue(uint16_t v, DepthEncoding encoding) {

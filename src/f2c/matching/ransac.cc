@@ -16,6 +16,11 @@ void RansacOptions::Check() const {
   if (refit_rounds < 0) ThrowInputError("ransac.refit_rounds", "must be >= 0");
   if (!(robust_scale >= 0)) ThrowInputError("ransac.robust_scale", "must be >= 0");
   if (robust_iterations < 0) ThrowInputError("ransac.robust_iterations", "must be >= 0");
+  if (anisotropic_iterations < 0) ThrowInputError("ransac.anisotropic_iterations", "must be >= 0");
+  if (!(bearing_sigma > 0) || !(depth_noise_a >= 0) || !(depth_noise_b >= 0) || !(depth_noise_a + depth_noise_b > 0)) {
+    ThrowInputError("ransac noise model", "bearing_sigma must be positive, depth_noise_a/b >= 0 and not both 0");
+  }
+  if (!(anisotropic_scale > 0)) ThrowInputError("ransac.anisotropic_scale", "must be positive");
 }
 
 Rigid3d FitRigid(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
@@ -89,7 +94,64 @@ std::vector<int> Inliers(const std::vector<Eigen::Vector3d>& a, const std::vecto
   return inliers;
 }
 
+// A point's covariance in its camera: sigma_ray^2 along the ray, sigma_perp^2 across it.
+Eigen::Matrix3d PointCovariance(const Eigen::Vector3d& p, const RansacOptions& o) {
+  const double range = p.norm();
+  const Eigen::Vector3d d = p / range;
+  const double z = std::abs(p.z());
+  const double sigma_z = o.depth_noise_a + o.depth_noise_b * z * z;
+  const double sigma_ray = sigma_z / std::max(std::abs(d.z()), 0.1);  // depth noise, measured along z
+  const double sigma_perp = o.bearing_sigma * range;
+  return sigma_perp * sigma_perp * Eigen::Matrix3d::Identity() +
+         (sigma_ray * sigma_ray - sigma_perp * sigma_perp) * d * d.transpose();
+}
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
 }  // namespace
+
+Rigid3d RefineRigidAnisotropic(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                               const std::vector<int>& indices, const Rigid3d& initial, const RansacOptions& o) {
+  Rigid3d t = initial;
+  if (indices.size() < 3) return t;
+  std::vector<Eigen::Matrix3d> cov_a(indices.size()), cov_b(indices.size());
+  for (size_t i = 0; i < indices.size(); ++i) {
+    cov_a[i] = PointCovariance(a[indices[i]], o);
+    cov_b[i] = PointCovariance(b[indices[i]], o);
+  }
+  const double c2 = o.anisotropic_scale * o.anisotropic_scale;
+  for (int it = 0; it < o.anisotropic_iterations; ++it) {
+    // Left perturbation: b ~ exp(w, v) t a = R_w (R a + t) + v, so d(residual) = -[t a]_x w + v.
+    Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+    const Eigen::Matrix3d r = t.linear();
+    for (size_t i = 0; i < indices.size(); ++i) {
+      const Eigen::Vector3d moved = t * a[indices[i]];
+      const Eigen::Vector3d residual = moved - b[indices[i]];
+      const Eigen::Matrix3d info = (cov_b[i] + r * cov_a[i] * r.transpose()).inverse();
+      const double m2 = residual.dot(info * residual);
+      const double w = 1.0 / (1.0 + m2 / c2);
+      Eigen::Matrix<double, 3, 6> j;
+      j << -Skew(moved), Eigen::Matrix3d::Identity();
+      h += w * j.transpose() * info * j;
+      g += w * j.transpose() * info * residual;
+    }
+    const Eigen::Matrix<double, 6, 1> step = -h.ldlt().solve(g);
+    if (!step.allFinite()) break;
+    const Eigen::Vector3d omega = step.head<3>();
+    const Eigen::Matrix3d rotate =
+        omega.norm() > 0 ? Eigen::AngleAxisd(omega.norm(), omega.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+    t.linear() = rotate * t.linear();
+    t.translation() = rotate * t.translation() + step.tail<3>();
+    if (step.norm() < 1e-9) break;
+  }
+  t.linear() = Eigen::Quaterniond(t.linear()).normalized().toRotationMatrix();
+  return t;
+}
 
 RansacResult EstimateRigidRansac(const std::vector<Eigen::Vector3d>& a,
                                  const std::vector<Eigen::Vector3d>& b, const RansacOptions& options,
@@ -148,6 +210,9 @@ RansacResult EstimateRigidRansac(const std::vector<Eigen::Vector3d>& a,
       }
       result.b_from_a = FitRigidWeighted(a, b, result.inliers, weights);
     }
+  }
+  if (options.anisotropic_iterations > 0) {
+    result.b_from_a = RefineRigidAnisotropic(a, b, result.inliers, result.b_from_a, options);
   }
   Inliers(a, b, result.b_from_a, options.inlier_threshold, &result.inlier_rmse);
   return result;

@@ -23,9 +23,24 @@ struct RansacOptions {
   // 0 disables it.
   double robust_scale = 0.01;  // metres
   int robust_iterations = 10;
+  // Last, maximum likelihood under the depth sensor's noise, which is anisotropic: a point
+  // is uncertain along its ray by sigma_z = depth_noise_a + depth_noise_b z^2 (Kinect-class
+  // sensors, after Nguyen et al. 2012) and across it by bearing_sigma radians (keypoint
+  // localisation). Gauss-Newton on SE(3) over the inliers, each residual R a + t - b
+  // weighted by (C_b + R C_a R^T)^-1, with Cauchy weights at anisotropic_scale of that
+  // Mahalanobis distance. 0 iterations: off.
+  int anisotropic_iterations = 0;
+  double bearing_sigma = 0.0015;  // radians (0.8 px at f = 525)
+  double depth_noise_a = 0.0012;  // metres
+  double depth_noise_b = 0.0019;  // 1 / metre
+  double anisotropic_scale = 3.0;
 
   void Check() const;
 };
+
+// The anisotropic maximum-likelihood refinement alone (see RansacOptions), from `initial`.
+Rigid3d RefineRigidAnisotropic(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                               const std::vector<int>& indices, const Rigid3d& initial, const RansacOptions& options);
 
 struct RansacResult {
   Rigid3d b_from_a = Rigid3d::Identity();

@@ -1,6 +1,8 @@
 #include "f2c/odometry/depth_alignment.h"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 #include <opencv2/rgbd.hpp>
 
 #include "f2c/util/error.h"
@@ -12,12 +14,29 @@ void IcpOptions::Check() const {
   if (!(max_depth_difference > 0)) ThrowInputError("icp.max_depth_difference", "must be positive");
   if (!(max_points_part > 0 && max_points_part <= 1)) ThrowInputError("icp.max_points_part", "must be in (0, 1]");
   if (iterations.empty()) ThrowInputError("icp.iterations", "needs at least one pyramid level");
+  if (downscale < 1 || downscale > 8) ThrowInputError("--icp-downscale", "must be in 1..8");
   if (!(max_translation > 0) || !(max_rotation_deg > 0)) ThrowInputError("icp limits", "must be positive");
+  if (!(prior_information >= 0)) ThrowInputError("--icp-prior", "must be >= 0");
+  if (degeneracy_stride < 1) ThrowInputError("icp.degeneracy_stride", "must be >= 1");
 }
 
-bool AlignDepthIcp(const cv::Mat& source_depth, const cv::Mat& target_depth,
-                   const CameraIntrinsics& k, const Rigid3d& initial_target_from_source,
+bool AlignDepthIcp(const cv::Mat& full_source_depth, const cv::Mat& full_target_depth,
+                   const CameraIntrinsics& full_k, const Rigid3d& initial_target_from_source,
                    const IcpOptions& options, Rigid3d* target_from_source) {
+  cv::Mat source_depth = full_source_depth, target_depth = full_target_depth;
+  CameraIntrinsics k = full_k;
+  if (options.downscale > 1) {
+    // Every n-th pixel (no averaging across depth edges): OpenCV's nearest neighbour takes source
+    // pixel n u for pixel u, so u = (fx / n) X / Z + cx / n.
+    const double n = options.downscale;
+    const cv::Size size(full_source_depth.cols / options.downscale, full_source_depth.rows / options.downscale);
+    cv::resize(full_source_depth, source_depth, size, 0, 0, cv::INTER_NEAREST);
+    cv::resize(full_target_depth, target_depth, size, 0, 0, cv::INTER_NEAREST);
+    k.fx = full_k.fx / n;
+    k.fy = full_k.fy / n;
+    k.cx = full_k.cx / n;
+    k.cy = full_k.cy / n;
+  }
   const cv::Mat camera = (cv::Mat_<float>(3, 3) << k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
   cv::rgbd::ICPOdometry icp(camera, static_cast<float>(options.min_depth),
                             static_cast<float>(options.max_depth),
@@ -46,6 +65,89 @@ bool AlignDepthIcp(const cv::Mat& source_depth, const cv::Mat& target_depth,
   if (!m.allFinite()) return false;
   target_from_source->matrix() = m;
   return true;
+}
+
+int DepthConstraints::Degenerate(double threshold) const {
+  int n = 0;
+  for (int i = 0; i < 6; ++i) n += eigenvalues(i) < threshold;
+  return n;
+}
+
+DepthConstraints AnalyseDepthConstraints(const cv::Mat& depth, const CameraIntrinsics& k, int stride) {
+  DepthConstraints out;
+  // Normals from the depth averaged over (2 stride + 1)^2 pixels (invalid pixels left out):
+  // raw depth noise (1-2 cm at 3 m) over a few pixels would tilt them by tens of degrees and
+  // invent constraints a plain wall does not give.
+  const int h = std::max(stride, 2);
+  cv::Mat valid, sum, count;
+  cv::threshold(depth, valid, 0.0, 1.0, cv::THRESH_BINARY);
+  const cv::Size box(2 * h + 1, 2 * h + 1);
+  cv::boxFilter(depth, sum, CV_32F, box, cv::Point(-1, -1), true, cv::BORDER_CONSTANT);
+  cv::boxFilter(valid, count, CV_32F, box, cv::Point(-1, -1), true, cv::BORDER_CONSTANT);
+  auto point = [&](int u, int v, Eigen::Vector3d* p) {
+    const float c = count.at<float>(v, u);
+    if (c < 0.9f) return false;  // near the border, a hole or a depth edge
+    const float z = sum.at<float>(v, u) / c;
+    const float raw = depth.at<float>(v, u);
+    if (!(raw > 0) || std::abs(raw - z) > 0.05f * z) return false;
+    *p = k.Unproject(u, v, z);
+    return true;
+  };
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> samples;  // point, normal
+  double depth_sum = 0;
+  for (int v = h; v + h < depth.rows; v += stride) {
+    for (int u = h; u + h < depth.cols; u += stride) {
+      Eigen::Vector3d p, left, right, up, down;
+      if (!point(u, v, &p) || !point(u - h, v, &left) || !point(u + h, v, &right) || !point(u, v - h, &up) ||
+          !point(u, v + h, &down)) {
+        continue;
+      }
+      Eigen::Vector3d n = (right - left).cross(down - up);
+      if (n.norm() <= 0) continue;
+      n.normalize();
+      samples.push_back({p, n});
+      depth_sum += p.z();
+    }
+  }
+  out.samples = static_cast<int>(samples.size());
+  if (samples.empty()) return out;
+  out.mean_depth = depth_sum / samples.size();
+  Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
+  for (const auto& [p, n] : samples) {
+    Eigen::Matrix<double, 6, 1> j;
+    j << p.cross(n) / out.mean_depth, n;
+    hessian += j * j.transpose();
+  }
+  hessian /= static_cast<double>(samples.size());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(hessian);
+  out.eigenvalues = eigen.eigenvalues();
+  out.eigenvectors = eigen.eigenvectors();
+  return out;
+}
+
+Rigid3d ConstrainToGeometry(const Rigid3d& icp, const Rigid3d& prior, const DepthConstraints& c,
+                            double prior_information) {
+  if (c.samples == 0 || !(prior_information > 0)) return icp;
+  // Left difference: icp = exp(w, v) prior, with R_w = R_icp R_prior^T, v = t_icp - R_w t_prior.
+  const Eigen::Matrix3d r_w = icp.linear() * prior.linear().transpose();
+  const Eigen::AngleAxisd w_axis(r_w);
+  const Eigen::Vector3d w = w_axis.angle() * w_axis.axis();
+  const Eigen::Vector3d v = icp.translation() - r_w * prior.translation();
+  Eigen::Matrix<double, 6, 1> delta;
+  delta << w * c.mean_depth, v;
+  Eigen::Matrix<double, 6, 1> kept = Eigen::Matrix<double, 6, 1>::Zero();
+  for (int i = 0; i < 6; ++i) {
+    const double share = std::max(c.eigenvalues(i), 0.0) / (std::max(c.eigenvalues(i), 0.0) + prior_information);
+    kept += share * c.eigenvectors.col(i) * c.eigenvectors.col(i).dot(delta);
+  }
+  const Eigen::Vector3d w_kept = kept.head<3>() / c.mean_depth;
+  const Eigen::Matrix3d r_kept = w_kept.norm() > 0
+                                     ? Eigen::AngleAxisd(w_kept.norm(), w_kept.normalized()).toRotationMatrix()
+                                     : Eigen::Matrix3d::Identity();
+  Rigid3d out = Rigid3d::Identity();
+  out.linear() = r_kept * prior.linear();
+  out.translation() = r_kept * prior.translation() + kept.tail<3>();
+  return out;
 }
 
 DepthOverlap MeasureDepthOverlap(const cv::Mat& source_depth, const cv::Mat& target_depth,

@@ -48,5 +48,50 @@ TEST(MeasureDepthOverlap, OneAtTheTruthAndLowerWhenWrong) {
   EXPECT_LT(bad.fitness, 0.2);
 }
 
+// A camera 0.5 m from the room's back wall sees only the wall; one 0.7 m from a vertical
+// corner sees two walls; one as near to the ceiling as well sees three planes.
+TEST(AnalyseDepthConstraints, CountsTheMotionsTheGeometryLeavesFree) {
+  SyntheticScene scene;
+  scene.textured = false;
+  const auto k = TestIntrinsics();
+  auto degenerate = [&](const Rigid3d& pose) {
+    return AnalyseDepthConstraints(Render(scene, k, pose).depth, k, 8).Degenerate(IcpOptions().prior_information);
+  };
+  EXPECT_EQ(degenerate(Pose(M_PI, {0.0, 0.0, -2.0})), 3);          // slide in the plane, turn about its normal
+  EXPECT_EQ(degenerate(Pose(0.75 * M_PI, {2.0, 0.0, -2.0})), 1);   // slide along the edge
+  EXPECT_EQ(degenerate(Pose(0.75 * M_PI, {2.0, 1.3, -2.0})), 0);
+}
+
+Rigid3d Exp(const Eigen::Vector3d& w, const Eigen::Vector3d& v) {
+  Rigid3d t = Rigid3d::Identity();
+  t.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+  t.translation() = v;
+  return t;
+}
+
+// Facing a plain wall (normal along the camera's z): ICP wrong only where the wall leaves it
+// free (slide in x, y and turn about z), the prior wrong only where the wall constrains it
+// (tilt and distance). Fused, each keeps its good part: the truth comes back to within the
+// share of the prior's error the wall's tilt constraint (eigenvalue 0.06-0.12 against the
+// prior's 0.01) leaves.
+TEST(ConstrainToGeometry, KeepsIcpWhereTheGeometryConstrainsItAndThePriorElsewhere) {
+  SyntheticScene scene;
+  scene.textured = false;
+  const auto k = TestIntrinsics();
+  const DepthConstraints wall = AnalyseDepthConstraints(Render(scene, k, Pose(M_PI, {0.0, 0.0, -2.0})).depth, k, 8);
+  const Rigid3d truth = Exp({0.01, 0.02, 0.005}, {0.02, -0.01, 0.01});
+  const Rigid3d icp = Exp({0, 0, 0.02}, {0.03, -0.02, 0}) * truth;
+  const Rigid3d prior = Exp({0.01, -0.015, 0}, {0, 0, 0.02}) * truth;
+  const double threshold = IcpOptions().prior_information;
+  const Rigid3d combined = ConstrainToGeometry(icp, prior, wall, threshold);
+  EXPECT_LT((combined.translation() - truth.translation()).norm(), 0.004);
+  EXPECT_LT(RotationAngle(combined.linear().transpose() * truth.linear()) * 180 / M_PI, 0.2);
+  // Either alone is off by a centimetre or more, or a degree.
+  EXPECT_GT((icp.translation() - truth.translation()).norm(), 0.03);
+  EXPECT_GT(RotationAngle(prior.linear().transpose() * truth.linear()) * 180 / M_PI, 1.0);
+  // No prior information: ICP stands.
+  EXPECT_EQ(ConstrainToGeometry(icp, prior, wall, 0.0).matrix(), icp.matrix());
+}
+
 }  // namespace
 }  // namespace f2c

@@ -63,43 +63,57 @@ class KeyframeTracker {
     }
     PairAlignment& pair = odometry_->pairs[k - 1];
     const KeyframeOdometryOptions& ko = options_.keyframes;
-    // Constant velocity: the motion from k-2 to k-1 again.
-    const Rigid3d motion = k >= 2 ? poses_[k - 2].inverse() * poses_[k - 1] : Rigid3d::Identity();
+    const Rigid3d motion = Velocity(k);
     const Rigid3d keyframe_from_guess = poses_[key_.frame].inverse() * poses_[k - 1] * motion;
 
     pair = Track(frame, keyframe_from_guess);
-    if (getenv("F2C_DEBUG")) fprintf(stderr, "k %d key %d tracked %d matches %d inliers %d fit %.3f rmse %.4f\n", k, key_.frame, pair.keypoints_curr, pair.matches, pair.inliers, pair.fitness, pair.inlier_rmse);
-    const bool tracked = pair.method == AlignmentMethod::kTrack && !internal::NeedsFallback(pair, options_);
     std::optional<SiftFeatures> sift;
-    if (tracked) {
-      const Rigid3d& t = pair.prev_from_curr;
-      pair.keyframe = t.translation().norm() > ko.max_translation || AngleDeg(t) > ko.max_rotation_deg ||
-                      pair.fitness < ko.min_overlap ||
-                      pair.inliers < ko.min_inlier_share * static_cast<double>(key_.sift.size()) ||
-                      (ko.max_interval > 0 && k - key_.frame >= ko.max_interval);
-      if (pair.keyframe) sift = internal::DescribeFrame(frame.gray, frame.depth, k_, options_, clock_);
-    } else {
-      // Tracking lost the keyframe: SIFT against it, and failing that, ICP against the previous
-      // frame (the smallest motion) as the consecutive odometry does.
+    bool aligned = pair.method == AlignmentMethod::kTrack && !internal::NeedsFallback(pair, options_);
+    if (!aligned && static_cast<int>(key_.sift.size()) >= options_.min_inliers) {
+      // Tracking lost the keyframe: SIFT against it (when it has keypoints enough to match).
       sift = internal::DescribeFrame(frame.gray, frame.depth, k_, options_, clock_);
       pair = internal::AlignSift(key_.sift, *sift, options_, options_.seed + k, clock_);
       pair.reference = key_.frame;
       if (pair.method == AlignmentMethod::kSift) {
         internal::ScoreOverlap(key_.depth, frame.depth, k_, options_, clock_, &pair);
       }
-      if (internal::NeedsFallback(pair, options_)) {
-        if (key_.frame != k - 1) {
-          // The SIFT answer (if any) as a candidate relative to the previous frame.
-          pair.prev_from_curr = poses_[k - 1].inverse() * poses_[key_.frame] * pair.prev_from_curr;
-          pair.reference = k - 1;
-          if (pair.method == AlignmentMethod::kSift) {
-            internal::ScoreOverlap(previous_.depth, frame.depth, k_, options_, clock_, &pair);
-          }
-        }
-        internal::ApplyFallback(previous_.depth, frame.depth, k_, options_, motion, clock_, &pair);
+      aligned = !internal::NeedsFallback(pair, options_);
+      pair.keyframe = aligned;  // the keyframe's keypoints no longer reach this far
+    }
+    if (!aligned && ko.icp_to_keyframe) {
+      // No appearance to align by (a plain wall): depth ICP against the keyframe, from the
+      // predicted motion, so textureless stretches chain keyframes, not every frame.
+      PairAlignment icp = pair;
+      icp.reference = key_.frame;
+      internal::ApplyFallback(key_.depth, frame.depth, k_, options_, keyframe_from_guess, clock_, &icp);
+      aligned = icp.method == AlignmentMethod::kIcp && icp.fitness >= options_.min_fitness;
+      if (aligned) {
+        pair = icp;
+        pair.keyframe = false;
       }
+    }
+    if (!aligned) {
+      // Failing that, the consecutive odometry's fallback against the previous frame (the
+      // smallest motion); the SIFT answer, if any, is a candidate relative to it.
+      if (key_.frame != k - 1) {
+        pair.prev_from_curr = poses_[k - 1].inverse() * poses_[key_.frame] * pair.prev_from_curr;
+        pair.reference = k - 1;
+        if (pair.method == AlignmentMethod::kSift) {
+          internal::ScoreOverlap(previous_.depth, frame.depth, k_, options_, clock_, &pair);
+        }
+      }
+      internal::ApplyFallback(previous_.depth, frame.depth, k_, options_, motion, clock_, &pair);
       pair.keyframe = true;
     }
+    if (!pair.keyframe && pair.reference == key_.frame) {
+      const Rigid3d& t = pair.prev_from_curr;
+      pair.keyframe = t.translation().norm() > ko.max_translation || AngleDeg(t) > ko.max_rotation_deg ||
+                      pair.fitness < ko.min_overlap ||
+                      (pair.method == AlignmentMethod::kTrack &&
+                       pair.inliers < ko.min_inlier_share * static_cast<double>(key_.sift.size())) ||
+                      (ko.max_interval > 0 && k - key_.frame >= ko.max_interval);
+    }
+    if (pair.keyframe && !sift) sift = internal::DescribeFrame(frame.gray, frame.depth, k_, options_, clock_);
     pair.frame = k;
     poses_[k] = Chain(pair);
     if (pair.keyframe) StartKeyframe(frame, std::move(*sift));
@@ -109,6 +123,26 @@ class KeyframeTracker {
   const Rigid3d& pose(int k) const { return poses_[k]; }
 
  private:
+  // Constant velocity: the mean motion per frame over the last velocity_frames frames before
+  // k (one frame's motion, between two frames tracked from one keyframe, is as noisy as two
+  // trackings; the average is what a degenerate ICP keeps where the geometry is silent).
+  Rigid3d Velocity(int k) const {
+    const int m = std::min(k - 1, options_.keyframes.velocity_frames);
+    if (m < 1) return Rigid3d::Identity();
+    const Rigid3d span = poses_[k - 1 - m].inverse() * poses_[k - 1];
+    const Eigen::AngleAxisd turn(span.linear());
+    Rigid3d step = Rigid3d::Identity();
+    step.linear() = Eigen::AngleAxisd(turn.angle() / m, turn.axis()).toRotationMatrix();
+    // m equal steps: span.t = (I + R + ... + R^(m-1)) step.t
+    Eigen::Matrix3d sum = Eigen::Matrix3d::Zero(), power = Eigen::Matrix3d::Identity();
+    for (int i = 0; i < m; ++i) {
+      sum += power;
+      power = step.linear() * power;
+    }
+    step.translation() = sum.inverse() * span.translation();
+    return step;
+  }
+
   Rigid3d Chain(const PairAlignment& pair) const {
     Rigid3d pose = poses_[pair.Reference()] * pair.prev_from_curr;
     pose.linear() = Eigen::Quaterniond(pose.linear()).normalized().toRotationMatrix();

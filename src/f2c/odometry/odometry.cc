@@ -39,6 +39,7 @@ void KeyframeOdometryOptions::Check() const {
   if (!(min_inlier_share >= 0 && min_inlier_share <= 1)) ThrowInputError("--keyframe-inlier-share", "must be in [0, 1]");
   if (min_inliers < 3) ThrowInputError("--track-min-inliers", "must be >= 3");
   if (max_interval < 0) ThrowInputError("--keyframe-max-interval", "must be >= 0");
+  if (velocity_frames < 1) ThrowInputError("--velocity-frames", "must be >= 1");
 }
 
 void OdometryOptions::Check() const {
@@ -134,6 +135,15 @@ void ApplyFallback(const cv::Mat& depth_prev, const cv::Mat& depth_curr, const C
     icp.prev_from_curr = previous_motion;
     const bool ok = AlignDepthIcp(depth_curr, depth_prev, k, previous_motion, options.icp, &icp.prev_from_curr);
     clock->icp += timer.Seconds();
+    if (ok && options.icp.prior_information > 0) {
+      // Where the reference's geometry leaves ICP free (a plain wall), keep the previous motion.
+      timer.Restart();
+      const DepthConstraints constraints = AnalyseDepthConstraints(depth_prev, k, options.icp.degeneracy_stride);
+      icp.degenerate = constraints.Degenerate(options.icp.prior_information);
+      icp.prev_from_curr =
+          ConstrainToGeometry(icp.prev_from_curr, previous_motion, constraints, options.icp.prior_information);
+      clock->icp += timer.Seconds();
+    }
     if (ok) {
       icp.method = AlignmentMethod::kIcp;
       ScoreOverlap(depth_prev, depth_curr, k, options, clock, &icp);
@@ -147,8 +157,7 @@ void DecodeFrame(const RgbdSequence& seq, int index, StageClock* clock, cv::Mat*
   Timer timer;
   const RgbdFrame& frame = seq.frames[index];
   *depth = LoadDepthMeters(seq, frame);
-  const cv::Mat color = LoadColor(frame, depth->size());
-  cv::cvtColor(color, *gray, cv::COLOR_BGR2GRAY);
+  *gray = LoadGray(frame, depth->size());
   clock->decode += timer.Seconds();
 }
 
@@ -342,6 +351,8 @@ nlohmann::json ToJson(const OdometryOptions& o) {
         {"min_inlier_share", k.min_inlier_share},
         {"min_inliers", k.min_inliers},
         {"max_interval", k.max_interval},
+        {"velocity_frames", k.velocity_frames},
+        {"icp_to_keyframe", k.icp_to_keyframe},
         {"track",
          {{"window", k.track.window},
           {"pyramid_levels", k.track.pyramid_levels},
@@ -377,8 +388,11 @@ nlohmann::json ToJson(const OdometryOptions& o) {
         {"max_depth_difference", o.icp.max_depth_difference},
         {"max_points_part", o.icp.max_points_part},
         {"iterations", o.icp.iterations},
+        {"downscale", o.icp.downscale},
         {"max_translation", o.icp.max_translation},
-        {"max_rotation_deg", o.icp.max_rotation_deg}}},
+        {"max_rotation_deg", o.icp.max_rotation_deg},
+        {"prior_information", o.icp.prior_information},
+        {"degeneracy_stride", o.icp.degeneracy_stride}}},
       {"fitness_threshold", o.fitness_threshold},
       {"min_fitness", o.min_fitness},
       {"seed", o.seed},
@@ -399,6 +413,7 @@ nlohmann::json ToJson(const PairAlignment& p) {
           {"inliers", p.inliers},
           {"inlier_rmse", p.inlier_rmse},
           {"fitness", p.fitness},
+          {"degenerate", p.degenerate},
           {"overlap_rmse", p.overlap_rmse}};
 }
 
@@ -429,6 +444,7 @@ PairAlignment PairAlignmentFromJson(const nlohmann::json& j) {
   p.inliers = j.at("inliers").get<int>();
   p.inlier_rmse = j.at("inlier_rmse").get<double>();
   p.fitness = j.at("fitness").get<double>();
+  p.degenerate = j.value("degenerate", 0);
   p.overlap_rmse = j.at("overlap_rmse").get<double>();
   return p;
 }

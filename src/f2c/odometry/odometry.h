@@ -46,6 +46,12 @@ struct KeyframeOdometryOptions {
   // Fewer tracked inliers than this (or fitness below min_fitness) and tracking failed.
   int min_inliers = 20;
   int max_interval = 0;  // frames from the keyframe that force a new one; 0: no limit
+  // The motion prior (tracking's start, ICP's start and its degenerate directions) is the mean
+  // motion per frame over this many frames.
+  int velocity_frames = 4;
+  // Frames neither tracking nor SIFT aligns: depth ICP against the keyframe first (true), or
+  // straight against the previous frame (false, the consecutive odometry's fallback).
+  bool icp_to_keyframe = false;
   TrackOptions track;
 
   void Check() const;
@@ -89,6 +95,7 @@ struct PairAlignment {
   double inlier_rmse = 0;                      // metres
   double fitness = 0;  // fraction of frame k's depth samples within fitness_threshold of the reference's
   double overlap_rmse = 0;  // metres, of those samples
+  int degenerate = 0;  // ICP: directions of motion the reference's geometry left to the previous motion
 
   int Reference() const { return reference >= 0 ? reference : frame - 1; }
 };

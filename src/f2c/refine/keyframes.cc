@@ -153,8 +153,7 @@ std::vector<Keyframe> KeyframeStore::Finish(const std::vector<int>& frames) {
     const int i = missing[m];
     const RgbdFrame& frame = seq_.frames[frames[i]];
     const cv::Mat depth = LoadDepthMeters(seq_, frame);
-    cv::Mat gray;
-    cv::cvtColor(LoadColor(frame, depth.size()), gray, cv::COLOR_BGR2GRAY);
+    const cv::Mat gray = LoadGray(frame, depth.size());  // as the odometry decodes it
     keyframes[i] = MakeKeyframe(frames[i], ExtractSiftWithDepth(gray, depth, *seq_.intrinsics, sift_), options_.max_keypoints);
   });
   computed_ = static_cast<int>(missing.size());

@@ -1,0 +1,194 @@
+// Keyframe odometry on rendered scenes with known poses.
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <map>
+#include <mutex>
+
+#include "f2c/io/image.h"
+#include "f2c/odometry/odometry.h"
+#include "f2c/testing/synthetic_scene.h"
+
+namespace f2c {
+namespace {
+
+using testing::SyntheticScene;
+using testing::TestIntrinsics;
+using Poses = std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>>;
+
+// Yaw `degrees_per_frame` about the vertical, plus `metres_per_frame` sideways.
+Poses Turn(int n, double degrees_per_frame, double metres_per_frame) {
+  Poses poses;
+  for (int i = 0; i < n; ++i) {
+    Rigid3d pose = Rigid3d::Identity();
+    pose.linear() = Eigen::AngleAxisd(degrees_per_frame * i * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    pose.translation() = Eigen::Vector3d(metres_per_frame * i, 0.0, -0.8);
+    poses.push_back(pose);
+  }
+  return poses;
+}
+
+RgbdSequence WriteAndRead(const std::string& name, const SyntheticScene& scene, const Poses& poses, int last = -1) {
+  const auto dir = testing::FreshTempDir(name);
+  testing::WriteTumSequence(dir, scene, TestIntrinsics(), poses);
+  IoOptions io;
+  io.intrinsics = "525,525,319.5,239.5";
+  io.last = last;
+  return ReadSequence(dir, io);
+}
+
+RgbdSequence Reread(const RgbdSequence& seq, int last) {
+  IoOptions io;
+  io.intrinsics = "525,525,319.5,239.5";
+  io.last = last;
+  return ReadSequence(seq.root, io);
+}
+
+double AngleDeg(const Eigen::Matrix3d& r) { return Eigen::AngleAxisd(r).angle() * 180 / M_PI; }
+
+void ExpectMatchesTruth(const Odometry& odometry, const Poses& truth, double max_t, double max_deg) {
+  ASSERT_EQ(odometry.t0.size(), truth.size());
+  for (size_t i = 1; i < truth.size(); ++i) {
+    const Rigid3d expected = truth[0].inverse() * truth[i];
+    const Rigid3d& got = odometry.t0.world_from_camera[i];
+    EXPECT_LT((got.translation() - expected.translation()).norm(), max_t) << "frame " << i;
+    EXPECT_LT(AngleDeg(got.linear().transpose() * expected.linear()), max_deg) << "frame " << i;
+  }
+}
+
+OdometryRun Quiet() {
+  OdometryRun run;
+  run.quiet = true;
+  return run;
+}
+
+TEST(AlignWithKeyframes, AStillCameraKeepsOneKeyframe) {
+  const Poses poses(6, Turn(1, 0, 0)[0]);
+  const RgbdSequence seq = WriteAndRead("keyframes_still", SyntheticScene(), poses);
+  const Odometry odometry = AlignWithKeyframes(seq, OdometryOptions(), Quiet());
+  EXPECT_EQ(odometry.timings.keyframes, 1);
+  EXPECT_EQ(odometry.timings.sift_frames, 1);  // the keyframe's; the others are tracked
+  for (const PairAlignment& pair : odometry.pairs) {
+    EXPECT_EQ(pair.method, AlignmentMethod::kTrack) << pair.frame;
+    EXPECT_EQ(pair.reference, 0);
+    EXPECT_FALSE(pair.keyframe);
+  }
+  EXPECT_EQ(OdometryKeyframes(odometry), std::vector<int>{0});
+  ExpectMatchesTruth(odometry, poses, 0.001, 0.05);
+}
+
+// 3 degrees per frame with a 10-degree limit: frames 1-3 (3, 6, 9 degrees) stay with
+// keyframe 0, frame 4 (12) starts the next, and so on.
+TEST(AlignWithKeyframes, AFastTurnStartsAKeyframeOnceItPassesTheRotationLimit) {
+  const Poses poses = Turn(14, 3.0, 0.0);
+  const RgbdSequence seq = WriteAndRead("keyframes_turn", SyntheticScene(), poses);
+  OdometryOptions options;
+  options.keyframes.max_rotation_deg = 10;
+  options.keyframes.max_translation = 1.0;  // rotation alone decides here
+  options.keyframes.min_overlap = 0;
+  options.keyframes.min_inlier_share = 0;
+  const Odometry odometry = AlignWithKeyframes(seq, options, Quiet());
+  EXPECT_EQ(OdometryKeyframes(odometry), (std::vector<int>{0, 4, 8, 12}));
+  for (const PairAlignment& pair : odometry.pairs) {
+    EXPECT_EQ(pair.method, AlignmentMethod::kTrack) << pair.frame;
+    EXPECT_EQ(pair.reference, pair.frame / 4 * 4 - (pair.frame % 4 == 0 ? 4 : 0)) << pair.frame;
+  }
+  ExpectMatchesTruth(odometry, poses, 0.01, 0.3);
+}
+
+// Without texture there is nothing to track or match: depth ICP aligns each frame to the
+// previous one (the default), or to the keyframe (3, 6, 9 cm and 1.5, 3, 4.5 degrees away:
+// all within the limits) with --icp-to-keyframe.
+TEST(AlignWithKeyframes, TexturelessFramesAreAlignedByIcp) {
+  SyntheticScene scene;
+  scene.textured = false;
+  const Poses poses = Turn(4, 1.5, 0.03);
+  const RgbdSequence seq = WriteAndRead("keyframes_textureless", scene, poses);
+  const Odometry odometry = AlignWithKeyframes(seq, OdometryOptions(), Quiet());
+  for (const PairAlignment& pair : odometry.pairs) {
+    EXPECT_EQ(pair.method, AlignmentMethod::kIcp) << pair.frame;
+    EXPECT_EQ(pair.reference, pair.frame - 1);
+    EXPECT_TRUE(pair.keyframe);
+  }
+  ExpectMatchesTruth(odometry, poses, 0.02, 0.6);
+  OdometryOptions to_keyframe;
+  to_keyframe.keyframes.icp_to_keyframe = true;
+  const Odometry icp = AlignWithKeyframes(seq, to_keyframe, Quiet());
+  for (const PairAlignment& pair : icp.pairs) {
+    EXPECT_EQ(pair.method, AlignmentMethod::kIcp) << pair.frame;
+    EXPECT_EQ(pair.reference, 0);
+    EXPECT_FALSE(pair.keyframe);
+  }
+  EXPECT_EQ(icp.timings.sift_frames, 1);  // the keyframe has no keypoints to match: no SIFT for the others
+  ExpectMatchesTruth(icp, poses, 0.02, 0.6);
+}
+
+// A run that stopped at frame 4 and one over all 8 frames that continues from its cache must
+// give exactly the poses of an uncached run over all 8.
+TEST(AlignWithKeyframes, ACachedPrefixContinuesToTheSamePoses) {
+  const Poses poses = Turn(8, 2.5, 0.02);
+  const RgbdSequence all = WriteAndRead("keyframes_cache", SyntheticScene(), poses);
+  OdometryOptions options;
+  options.keyframes.max_rotation_deg = 6;  // keyframes at about every third frame
+  const Odometry fresh = AlignWithKeyframes(all, options, Quiet());
+  OdometryRun run = Quiet();
+  run.cache_file = testing::FreshTempDir("keyframes_cache_out") / "pairs.json";
+  const Odometry prefix = AlignWithKeyframes(Reread(all, 4), options, run);
+  EXPECT_EQ(prefix.timings.pairs_cached, 0);
+  const Odometry resumed = AlignWithKeyframes(all, options, run);
+  EXPECT_EQ(resumed.timings.pairs_cached, 4);
+  EXPECT_EQ(resumed.timings.pairs_computed, 3);
+  EXPECT_LT(resumed.timings.frames_processed, 8);  // from the prefix's last keyframe on
+  const Odometry again = AlignWithKeyframes(all, options, run);
+  EXPECT_EQ(again.timings.pairs_cached, 7);
+  EXPECT_EQ(again.timings.frames_processed, 0);
+  for (size_t i = 0; i < fresh.t0.size(); ++i) {
+    EXPECT_EQ(fresh.t0.world_from_camera[i].matrix(), resumed.t0.world_from_camera[i].matrix()) << i;
+    EXPECT_EQ(fresh.t0.world_from_camera[i].matrix(), again.t0.world_from_camera[i].matrix()) << i;
+  }
+  EXPECT_GT(fresh.timings.keyframes, 2);
+  options.keyframes.max_rotation_deg = 7;  // another option: nothing comes from the cache
+  EXPECT_EQ(AlignWithKeyframes(all, options, run).timings.pairs_cached, 0);
+}
+
+TEST(AlignWithKeyframes, TheSamePosesForAnyThreadCountAndEachDepthImageOnce) {
+  const Poses poses = Turn(7, 2.0, 0.02);
+  const RgbdSequence seq = WriteAndRead("keyframes_threads", SyntheticScene(), poses);
+  std::mutex mutex;
+  std::map<int, int> calls;
+  OdometryRun run = Quiet();
+  run.on_depth = [&](int frame, const cv::Mat&) {
+    std::lock_guard<std::mutex> lock(mutex);
+    ++calls[frame];
+  };
+  Odometry one;
+  {
+    tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+    one = AlignWithKeyframes(seq, OdometryOptions(), run);
+  }
+  ASSERT_EQ(calls.size(), 7u);
+  for (const auto& [frame, count] : calls) EXPECT_EQ(count, 1) << frame;
+  const Odometry many = AlignWithKeyframes(seq, OdometryOptions(), Quiet());
+  for (size_t i = 0; i < one.t0.size(); ++i) {
+    EXPECT_EQ(one.t0.world_from_camera[i].matrix(), many.t0.world_from_camera[i].matrix()) << i;
+  }
+}
+
+TEST(AlignFrames, KeyframesOffIsTheConsecutiveChain) {
+  const Poses poses = Turn(4, 1.5, 0.03);
+  const RgbdSequence seq = WriteAndRead("keyframes_off", SyntheticScene(), poses);
+  OdometryOptions options;
+  options.keyframes.enabled = false;
+  const Odometry odometry = AlignFrames(seq, options, Quiet());
+  EXPECT_EQ(odometry.timings.sift_frames, 4);
+  EXPECT_TRUE(OdometryKeyframes(odometry).empty());
+  for (const PairAlignment& pair : odometry.pairs) {
+    EXPECT_EQ(pair.method, AlignmentMethod::kSift);
+    EXPECT_EQ(pair.reference, pair.frame - 1);
+  }
+  ExpectMatchesTruth(odometry, poses, 0.01, 0.3);
+}
+
+}  // namespace
+}  // namespace f2c

@@ -1,0 +1,53 @@
+// Keyframe odometry on a simulated 30 Hz walk with exact ground truth (the test):
+// T0 with keyframes against the consecutive chain on all frames and on every second frame.
+
+#include <gtest/gtest.h>
+
+#include "f2c/eval/trajectory_error.h"
+#include "f2c/odometry/odometry.h"
+#include "f2c/sim/simulate.h"
+#include "f2c/testing/synthetic_scene.h"
+
+namespace f2c {
+namespace {
+
+Trajectory EvenFrames(const Trajectory& t) {
+  Trajectory out;
+  for (size_t k = 0; k < t.size(); k += 2) out.Add(t.timestamps[k], t.world_from_camera[k]);
+  return out;
+}
+
+TEST(KeyframeOdometry, OnASimulated30HzWalkIsNoWorseThanHalfTheFramesAndBetterThanAllOfThem) {
+  const auto dir = testing::FreshTempDir("keyframe_sim");
+  sim::SimulateOptions sim;
+  sim.scene = "apartment";
+  sim.seed = 0;
+  sim.walk.frames = 300;  // 10 s, about 10 m
+  sim.correspondences = 0;
+  sim::Simulate(dir, sim, true);
+  IoOptions io;
+  const RgbdSequence all = ReadSequence(dir, io);
+  io.every = 2;
+  const RgbdSequence half = ReadSequence(dir, io);
+  ASSERT_TRUE(all.ground_truth.has_value());
+  OdometryRun run;
+  run.quiet = true;
+  OdometryOptions consecutive;
+  consecutive.keyframes.enabled = false;
+  const Odometry keyframes = AlignFrames(all, OdometryOptions(), run);
+  const Odometry chain = AlignFrames(all, consecutive, run);
+  const Odometry every2 = AlignFrames(half, consecutive, run);
+  auto ate = [&](const Trajectory& t) { return Evaluate(t, *all.ground_truth).ate.translation.rmse; };
+  const double kf_all = ate(keyframes.t0), chain_all = ate(chain.t0);
+  const double kf_even = ate(EvenFrames(keyframes.t0)), every2_even = ate(every2.t0);
+  EXPECT_LE(kf_even, every2_even) << "keyframes " << kf_even << " m, every second frame " << every2_even << " m";
+  EXPECT_LT(kf_all, chain_all) << "keyframes " << kf_all << " m, consecutive " << chain_all << " m";
+  EXPECT_LT(keyframes.timings.sift_frames, all.frames.size() / 2);  // SIFT on keyframes only
+  std::printf("T0 ATE: keyframes %.4f m (even frames %.4f), consecutive %.4f m, every second frame %.4f m; "
+              "%d keyframes, %d SIFT frames of %zu\n",
+              kf_all, kf_even, chain_all, every2_even, keyframes.timings.keyframes, keyframes.timings.sift_frames,
+              all.frames.size());
+}
+
+}  // namespace
+}  // namespace f2c
