@@ -78,6 +78,9 @@ std::function<void()> AddRefineOptions(CLI::App* cmd, RefineOptions* o) {
   add(e, "--local-max-power", &o->local.max_power, "E_L between frames j and j + 2^k, k <= this");
   add(e, "--local-icp-weight", &o->local.icp_weight, "E_L confidence of ICP-fallback pairs (SIFT pairs up to 1)");
   add(e, "--local-prior-weight", &o->local.prior_weight, "E_L confidence of motion-prior pairs");
+  add(e, "--local-spans", &o->local.spans,
+      "E_L pairs: frames (j, j + 2^k, and each frame with its keyframe) or keyframes (each frame with its "
+      "keyframe, and keyframes i, i + 2^k)");
   add(e, "--local-distance-sigma", &o->local.distance_sigma, "E_L weight exp(-d^2/2s^2) by camera distance (m; 0: off)");
   add(e, "--local-loss-scale", &o->solver.local_loss_scale, "Cauchy scale of E_L (m; 0: least squares)");
   add(e, "--weight-match", &o->solver.weight_match, "w_M: each SIFT loop match weighs w_M / frames");

@@ -40,12 +40,11 @@ json PairsToJson(const std::vector<PairAlignment>& pairs, const LocalAlignmentOp
 }
 
 json PairStatistics(const std::vector<PairAlignment>& pairs) {
-  int sift = 0, track = 0, icp = 0, prior = 0, keyframes = 1;
+  int sift = 0, track = 0, icp = 0, prior = 0;
   double inliers = 0, fitness = 0, min_fitness = pairs.empty() ? 0.0 : 1.0;
   for (const PairAlignment& p : pairs) {
     sift += p.method == AlignmentMethod::kSift;
     track += p.method == AlignmentMethod::kTrack;
-    keyframes += p.keyframe;
     icp += p.method == AlignmentMethod::kIcp;
     prior += p.method == AlignmentMethod::kMotionPrior;
     inliers += p.inliers;
@@ -53,7 +52,7 @@ json PairStatistics(const std::vector<PairAlignment>& pairs) {
     min_fitness = std::min(min_fitness, p.fitness);
   }
   const double n = std::max<size_t>(pairs.size(), 1);
-  return {{"pairs", pairs.size()},   {"sift", sift},  {"track", track}, {"keyframes", keyframes},
+  return {{"pairs", pairs.size()},   {"sift", sift},  {"track", track},
           {"icp", icp},              {"motion_prior", prior},
           {"mean_inliers", inliers / n}, {"mean_fitness", fitness / n},
           {"min_fitness", min_fitness}};
@@ -134,10 +133,11 @@ int RunRegister(const RegisterArgs& args) {
     run.on_sift = [&](int frame, const SiftFeatures& sift) { keyframe_store->Offer(frame, sift); };
   }
   const Odometry odometry = AlignFrames(seq, args.odometry, run);
-  const json stats = PairStatistics(odometry.pairs);
+  json stats = PairStatistics(odometry.pairs);
+  stats["keyframes"] = odometry.timings.keyframes;  // 0 without keyframe odometry
   spdlog::info("odometry: {} frames aligned ({} tracked, {} SIFT, {} ICP, {} motion prior), {} keyframes, in {:.1f} s",
                odometry.pairs.size(), stats["track"].get<int>(), stats["sift"].get<int>(), stats["icp"].get<int>(),
-               stats["motion_prior"].get<int>(), args.odometry.keyframes.enabled ? stats["keyframes"].get<int>() : 0,
+               stats["motion_prior"].get<int>(), odometry.timings.keyframes,
                odometry.timings.wall);
 
   json feature_stage = nullptr, feature_stats = nullptr;
@@ -262,6 +262,10 @@ Subcommand AddRegisterCommand(CLI::App* app) {
       ->capture_default_str();
   cmd->add_option("--robust-scale", od.ransac.robust_scale,
                       "Cauchy scale (m) of the final reweighted refit on RANSAC inliers (0: off)")
+      ->capture_default_str();
+  cmd->add_option("--ransac-anisotropic", od.ransac.anisotropic_iterations,
+                  "Gauss-Newton steps of a ray-aware (depth noise along the ray) refit after RANSAC; 0: off "
+                  "(better on the simulator, worse on real sensors: BENCHMARKS.md)")
       ->capture_default_str();
   cmd->add_option("--min-fitness", od.min_fitness,
                       "SIFT answers whose depth overlap is lower are checked against ICP")

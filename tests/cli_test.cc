@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "f2c/features/feature_set.h"
+#include "f2c/io/conf.h"
 #include "f2c/io/ply.h"
 #include "f2c/io/trajectory.h"
 #include "f2c/testing/synthetic_scene.h"
@@ -108,6 +109,57 @@ TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
   const Result log = RunCli("evaluate --estimate " + (out / "trajectory.log").string() + " --ground-truth " + dir.string());
   EXPECT_EQ(log.code, 0) << log.output;
   EXPECT_NE(log.output.find("5 of 5 poses associated"), std::string::npos) << log.output;
+}
+
+// Keyframe odometry (the default) aligns most frames to a keyframe, but every input frame
+// still gets exactly one pose in each output, the same in all three; odometry.json says
+// which keyframe each frame was aligned to and how much E_L trusts it.
+TEST(Cli, KeyframeOdometryGivesEveryFrameOnePoseInEveryOutput) {
+  const fs::path dir = SyntheticTum("cli_keyframes", 12);
+  const fs::path out = testing::FreshTempDir("cli_keyframes_out");
+  const Result r = RunCli("register " + dir.string() + " --intrinsics primesense -q --stop-after odometry -o " +
+                          out.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const Trajectory tum = ReadTumTrajectory(out / "trajectory.txt");
+  const Trajectory log = ReadLogTrajectory(out / "trajectory.log");
+  const ConfFile conf = ReadConf(out / "trajectory.conf");
+  ASSERT_EQ(tum.size(), 12u);
+  ASSERT_EQ(log.size(), 12u);
+  ASSERT_EQ(conf.trajectory.size(), 12u);
+  for (size_t k = 0; k < 12; ++k) {
+    EXPECT_NEAR(tum.timestamps[k], 1000 + k / 30.0, 1e-5);  // the synthetic scan starts at 1000 s
+    EXPECT_EQ(log.timestamps[k], static_cast<double>(k));
+    EXPECT_LT((tum.world_from_camera[k].matrix() - log.world_from_camera[k].matrix()).norm(), 1e-5) << k;
+    EXPECT_LT((tum.world_from_camera[k].matrix() - conf.trajectory.world_from_camera[k].matrix()).norm(), 1e-5) << k;
+    EXPECT_NEAR(tum.world_from_camera[k].translation().x(), 0.03 * k, 0.01) << k;
+  }
+  const nlohmann::json pairs = nlohmann::json::parse(ReadFileToString(out / "odometry.json"));
+  ASSERT_EQ(pairs.size(), 11u);
+  int tracked = 0, keyframes = 1;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    EXPECT_EQ(pairs[i]["frame"].get<int>(), static_cast<int>(i) + 1);
+    EXPECT_LT(pairs[i]["reference"].get<int>(), pairs[i]["frame"].get<int>());
+    EXPECT_GT(pairs[i]["confidence"].get<double>(), 0.5);
+    tracked += pairs[i]["method"] == "track";
+    keyframes += pairs[i]["keyframe"].get<bool>();
+  }
+  EXPECT_GE(tracked, 8);
+  EXPECT_LT(keyframes, 6);  // 3 cm and 1.15 degrees per frame: a keyframe about every 4th frame
+  const nlohmann::json run = nlohmann::json::parse(ReadFileToString(out / "run.json"));
+  EXPECT_EQ(run["statistics"]["odometry"]["keyframes"].get<int>(), keyframes);
+  EXPECT_EQ(run["stages"]["odometry"]["sift_frames"].get<int>(), keyframes);
+
+  const fs::path off = testing::FreshTempDir("cli_keyframes_off");
+  ASSERT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --stop-after odometry --keyframes off -o " +
+                   off.string())
+                .code,
+            0);
+  const nlohmann::json chain = nlohmann::json::parse(ReadFileToString(off / "odometry.json"));
+  for (const auto& pair : chain) {
+    EXPECT_EQ(pair["reference"].get<int>(), pair["frame"].get<int>() - 1);
+    EXPECT_EQ(pair["method"], "sift");
+  }
+  EXPECT_EQ(ReadTumTrajectory(off / "trajectory.txt").size(), 12u);
 }
 
 // The refinement runs by default: T0 beside the refined trajectory, per-iteration summaries in

@@ -16,6 +16,7 @@ void LocalAlignmentOptions::Check() const {
   if (!(fitness_high > fitness_low)) ThrowInputError("local.fitness_high", "must exceed fitness_low");
   if (!(min_ramp >= 0 && min_ramp <= 1)) ThrowInputError("local.min_ramp", "must be in [0, 1]");
   if (!(distance_sigma >= 0)) ThrowInputError("--local-distance-sigma", "must be >= 0");
+  if (spans != "frames" && spans != "keyframes") ThrowInputError("--local-spans", "must be frames or keyframes");
 }
 
 double PairConfidence(const PairAlignment& pair, const LocalAlignmentOptions& o) {
@@ -74,6 +75,23 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
     out.push_back(c);
   };
   const int max_span = 1 << options.max_power;
+  if (options.spans == "keyframes") {
+    std::vector<int> keyframes = {0};
+    for (int k = 1; k < n; ++k) {
+      add(reference[k], k);
+      if (pairs[k - 1].keyframe) keyframes.push_back(k);
+    }
+    const int m = static_cast<int>(keyframes.size());
+    for (int i = 0; i < m; ++i) {
+      for (int p = 1; p <= options.max_power && i + (1 << p) < m; ++p) add(keyframes[i], keyframes[i + (1 << p)]);
+    }
+    if (m == 1 && n > 1) {  // no keyframe odometry: the chain's spans
+      for (int j = 0; j < n; ++j) {
+        for (int p = 1; p <= options.max_power && j + (1 << p) < n; ++p) add(j, j + (1 << p));
+      }
+    }
+    return out;
+  }
   for (int j = 0; j < n; ++j) {
     // Each frame's own alignment (to its keyframe), unless a span below holds it already.
     const int span = j - reference[j];
@@ -92,7 +110,7 @@ nlohmann::json ToJson(const LocalAlignmentOptions& o) {
           {"prior_weight", o.prior_weight},   {"inlier_midpoint", o.inlier_midpoint},
           {"inlier_slope", o.inlier_slope},   {"fitness_low", o.fitness_low},
           {"fitness_high", o.fitness_high},   {"min_ramp", o.min_ramp},
-          {"distance_sigma", o.distance_sigma}};
+          {"distance_sigma", o.distance_sigma}, {"spans", o.spans}};
 }
 
 }  // namespace f2c

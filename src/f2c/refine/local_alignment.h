@@ -15,6 +15,7 @@
 // d the distance T0 puts between the two cameras.
 
 #include <nlohmann/json_fwd.hpp>
+#include <string>
 #include <vector>
 
 #include "f2c/odometry/odometry.h"
@@ -32,6 +33,11 @@ struct LocalAlignmentOptions {
   double fitness_high = 0.8;
   double min_ramp = 0.05;
   double distance_sigma = 0;  // metres; 0: off
+  // Which pairs: "frames": j and j + 2^k over all frames (the paper), plus each frame and its
+  // reference; "keyframes": each frame and its reference (the odometry's own measurements),
+  // plus keyframes i and i + 2^k over the keyframes (k >= 1). Without keyframe odometry the
+  // two are the same.
+  std::string spans = "frames";
 
   void Check() const;
 };
