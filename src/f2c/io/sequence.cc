@@ -9,6 +9,7 @@
 #include "f2c/io/conf.h"
 #include "f2c/io/readers.h"
 #include "f2c/util/error.h"
+#include "f2c/util/file.h"
 
 namespace f2c {
 namespace fs = std::filesystem;
@@ -166,6 +167,10 @@ const CameraIntrinsics& RequireIntrinsics(const RgbdSequence& seq) {
                               "tum-fr3, primesense; or fx,fy,cx,cy)");
   }
   return *seq.intrinsics;
+}
+
+uint64_t HashFrameFiles(const RgbdFrame& frame) {
+  return HashFile(frame.depth_path) ^ (HashFile(frame.color_path) * 31);
 }
 
 std::string CacheContext(const RgbdSequence& seq, const std::string& options_json) {

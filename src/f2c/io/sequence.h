@@ -80,4 +80,7 @@ const CameraIntrinsics& RequireIntrinsics(const RgbdSequence& sequence);
 // (the odometry's pair cache and the feature cache both key on it).
 std::string CacheContext(const RgbdSequence& sequence, const std::string& options_json);
 
+// A hash of one frame's depth and colour files' bytes (the caches' per-frame key part).
+uint64_t HashFrameFiles(const RgbdFrame& frame);
+
 }  // namespace f2c

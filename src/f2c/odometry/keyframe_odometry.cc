@@ -120,8 +120,6 @@ class KeyframeTracker {
     previous_ = std::move(frame);
   }
 
-  const Rigid3d& pose(int k) const { return poses_[k]; }
-
  private:
   // Constant velocity: the mean motion per frame over the last velocity_frames frames before
   // k (one frame's motion, between two frames tracked from one keyframe, is as noisy as two
@@ -144,9 +142,7 @@ class KeyframeTracker {
   }
 
   Rigid3d Chain(const PairAlignment& pair) const {
-    Rigid3d pose = poses_[pair.Reference()] * pair.prev_from_curr;
-    pose.linear() = Eigen::Quaterniond(pose.linear()).normalized().toRotationMatrix();
-    return pose;
+    return internal::ChainPose(poses_[pair.Reference()], pair.prev_from_curr);
   }
 
   PairAlignment Track(const Decoded& frame, const Rigid3d& keyframe_from_guess) {
@@ -212,7 +208,7 @@ Odometry AlignWithKeyframes(const RgbdSequence& seq, const OdometryOptions& opti
     Timer timer;
     std::vector<uint64_t> frame_hash(n);
     tbb::parallel_for(0, n, [&](int i) {
-      frame_hash[i] = HashFile(seq.frames[i].depth_path) ^ (HashFile(seq.frames[i].color_path) * 31);
+      frame_hash[i] = HashFrameFiles(seq.frames[i]);
     });
     uint64_t chain = frame_hash[0];
     for (int k = 1; k < n; ++k) {

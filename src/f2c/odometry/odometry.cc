@@ -170,6 +170,12 @@ SiftFeatures DescribeFrame(const cv::Mat& gray, const cv::Mat& depth, const Came
   return sift;
 }
 
+Rigid3d ChainPose(const Rigid3d& world_from_reference, const Rigid3d& reference_from_frame) {
+  Rigid3d pose = world_from_reference * reference_from_frame;
+  pose.linear() = Eigen::Quaterniond(pose.linear()).normalized().toRotationMatrix();
+  return pose;
+}
+
 void CopyTimings(const StageClock& clock, OdometryTimings* t) {
   t->decode = clock.decode;
   t->sift = clock.sift;
@@ -234,10 +240,7 @@ Trajectory ConcatenatePairs(const RgbdSequence& sequence, const std::vector<Pair
     const PairAlignment& pair = pairs[k - 1];
     F2C_CHECK(pair.frame == static_cast<int>(k) && pair.Reference() >= 0 && pair.Reference() < pair.frame,
               "pairs[k-1] aligns frame k to an earlier frame");
-    Rigid3d pose = t0.world_from_camera[pair.Reference()] * pair.prev_from_curr;
-    // Re-orthonormalise: thousands of products drift off SO(3) in the last digits.
-    pose.linear() = Eigen::Quaterniond(pose.linear()).normalized().toRotationMatrix();
-    t0.Add(sequence.frames[k].timestamp, pose);
+    t0.Add(sequence.frames[k].timestamp, ChainPose(t0.world_from_camera[pair.Reference()], pair.prev_from_curr));
   }
   return t0;
 }
@@ -266,7 +269,7 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
     Timer timer;
     std::vector<uint64_t> frame_hash(n);
     tbb::parallel_for(0, n, [&](int i) {
-      frame_hash[i] = HashFile(seq.frames[i].depth_path) ^ (HashFile(seq.frames[i].color_path) * 31);
+      frame_hash[i] = HashFrameFiles(seq.frames[i]);
     });
     for (int k = 1; k < n; ++k) {
       keys[k - 1] = cache.Key(frame_hash[k - 1], frame_hash[k]);

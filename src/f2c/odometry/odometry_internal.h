@@ -39,6 +39,10 @@ void DecodeFrame(const RgbdSequence& seq, int index, StageClock* clock, cv::Mat*
 SiftFeatures DescribeFrame(const cv::Mat& gray, const cv::Mat& depth, const CameraIntrinsics& k,
                            const OdometryOptions& options, StageClock* clock);
 
+// T0[reference] * reference_from_frame, re-orthonormalised (thousands of products drift off
+// SO(3) in the last digits).
+Rigid3d ChainPose(const Rigid3d& world_from_reference, const Rigid3d& reference_from_frame);
+
 // Fills odometry->timings from the clock.
 void CopyTimings(const StageClock& clock, OdometryTimings* timings);
 

@@ -15,13 +15,12 @@ void TrackOptions::Check() const {
   if (!(max_forward_backward >= 0)) ThrowInputError("odometry.keyframes.track.max_forward_backward", "must be >= 0");
 }
 
-TrackingKeyframe MakeTrackingKeyframe(int frame, cv::Mat gray, cv::Mat depth, SiftFeatures sift,
+TrackingKeyframe MakeTrackingKeyframe(int frame, const cv::Mat& gray, cv::Mat depth, SiftFeatures sift,
                                       const TrackOptions& options) {
   TrackingKeyframe k;
   k.frame = frame;
   k.sift = std::move(sift);
   cv::buildOpticalFlowPyramid(gray, k.pyramid, cv::Size(options.window, options.window), options.pyramid_levels);
-  k.gray = std::move(gray);
   k.depth = std::move(depth);
   return k;
 }

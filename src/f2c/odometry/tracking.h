@@ -39,11 +39,10 @@ struct TrackingKeyframe {
   int frame = -1;
   SiftFeatures sift;            // keypoints (pixels) and their 3D points
   std::vector<cv::Mat> pyramid;  // cv::buildOpticalFlowPyramid of its grey image
-  cv::Mat gray;                 // 8-bit
   cv::Mat depth;                // metres
 };
 
-TrackingKeyframe MakeTrackingKeyframe(int frame, cv::Mat gray, cv::Mat depth, SiftFeatures sift,
+TrackingKeyframe MakeTrackingKeyframe(int frame, const cv::Mat& gray, cv::Mat depth, SiftFeatures sift,
                                       const TrackOptions& options);
 
 struct TrackedPoints {

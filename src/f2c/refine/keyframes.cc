@@ -129,8 +129,7 @@ std::vector<Keyframe> KeyframeStore::Finish(const std::vector<int>& frames) {
   std::vector<uint64_t> keys(n);
   if (!cache_file_.empty()) {
     tbb::parallel_for(0, n, [&](int i) {
-      const RgbdFrame& f = seq_.frames[frames[i]];
-      keys[i] = (HashFile(f.depth_path) ^ (HashFile(f.color_path) * 31)) ^ (context_ * 0x9E3779B97F4A7C15ULL);
+      keys[i] = HashFrameFiles(seq_.frames[frames[i]]) ^ (context_ * 0x9E3779B97F4A7C15ULL);
     });
   }
   std::map<uint64_t, Keyframe> cache = ReadCache(cache_file_, context_);

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 namespace f2c {
 namespace {
 
@@ -43,6 +45,40 @@ TEST(LocalConstraints, PowersOfTwoChainedWithTheWeakestLink) {
     EXPECT_LT(r.rotation_a_from_b.angularDistance(Eigen::Quaterniond(chained.linear())), 1e-12);
     const bool spans_icp = r.frame_a < 10 && r.frame_b >= 10;
     EXPECT_NEAR(r.weight, spans_icp ? 0.3 : PairConfidence(pairs[0], o), 1e-9) << r.frame_a << " " << r.frame_b;
+  }
+}
+
+// Keyframe odometry: frames 1-3 aligned to keyframe 0, frame 3 starting a keyframe, frames 4
+// and 5 aligned to 3, frame 2's alignment weak. Relative poses come from T0 along the tree of
+// references; weights are the weakest alignment on the tree path. Frame 5's own alignment
+// (span 2 from frame 3) is one of the spans; frame 3's (span 3) is added as its own.
+TEST(LocalConstraints, KeyframeReferencesFollowTheTreeOfReferences) {
+  std::vector<PairAlignment> pairs;
+  for (int k = 1; k <= 5; ++k) {
+    PairAlignment p = Pair(k, AlignmentMethod::kTrack, 100, 1.0, 0.1 * k);
+    p.reference = k <= 3 ? 0 : 3;
+    p.keyframe = k == 3;
+    pairs.push_back(p);
+  }
+  pairs[1] = Pair(2, AlignmentMethod::kIcp, 0, 1.0, 0.2);
+  pairs[1].reference = 0;
+  std::vector<Rigid3d> world(6, Rigid3d::Identity());
+  for (int k = 1; k <= 5; ++k) world[k] = world[pairs[k - 1].reference] * pairs[k - 1].prev_from_curr;
+  LocalAlignmentOptions o;
+  o.max_power = 1;  // spans 1 and 2
+  const std::vector<RelativePoseConstraint> c = LocalConstraints(pairs, o);
+  const double strong = PairConfidence(pairs[0], o), weak = 0.3;
+  std::map<std::pair<int, int>, double> expected = {
+      {{0, 1}, strong}, {{1, 2}, weak},   {{2, 3}, weak},   {{3, 4}, strong}, {{4, 5}, strong},
+      {{0, 2}, weak},   {{1, 3}, strong}, {{2, 4}, weak},   {{3, 5}, strong}, {{0, 3}, strong}};
+  ASSERT_EQ(c.size(), expected.size());
+  for (const RelativePoseConstraint& r : c) {
+    const auto it = expected.find({r.frame_a, r.frame_b});
+    ASSERT_NE(it, expected.end()) << r.frame_a << " " << r.frame_b;
+    EXPECT_NEAR(r.weight, it->second, 1e-9) << r.frame_a << " " << r.frame_b;
+    const Rigid3d a_from_b = world[r.frame_a].inverse() * world[r.frame_b];
+    EXPECT_LT((r.translation_a_from_b - a_from_b.translation()).norm(), 1e-12);
+    EXPECT_LT(r.rotation_a_from_b.angularDistance(Eigen::Quaterniond(a_from_b.linear())), 1e-12);
   }
 }
 

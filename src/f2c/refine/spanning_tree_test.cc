@@ -49,5 +49,24 @@ TEST(SpanningTreePoses, AWeakLinkOnALoopGivesWay) {
   for (int k = 0; k < 5; ++k) EXPECT_LT(Distance(kept[k], odometry[k]), 1e-9) << k;
 }
 
+// Keyframe odometry links each frame to its reference: frames 1 and 2 both hang off frame 0,
+// link 0-1 weak (frame 1 turned 20 degrees too far), link 0-2 trusted. A loop 1 -> 2 then
+// re-places frame 1 from frame 2. Read as consecutive links (0-1 weak, 1-2 trusted) the loop
+// would close a cycle through the trusted link and frame 1 would stay wrong.
+TEST(SpanningTreePoses, LinksJoinEachFrameToItsReference) {
+  const Rigid3d truth_1 = Step(0, 0.1);
+  const PoseVector odometry = {Pose::FromRigid(Rigid3d::Identity()), Pose::FromRigid(Step(20, 0.1)),
+                               Pose::FromRigid(Step(0, 0.2))};
+  LoopEdge loop;
+  loop.frame_a = 1;
+  loop.frame_b = 2;
+  loop.a_from_b = truth_1.inverse() * odometry[2].ToRigid();
+  const PoseVector out = SpanningTreePoses(odometry, {0.3, 1.0}, {loop}, {0, 0});
+  EXPECT_LT(Distance(out[1], Pose::FromRigid(truth_1)), 1e-9);
+  EXPECT_LT(Distance(out[2], odometry[2]), 1e-12);
+  const PoseVector consecutive = SpanningTreePoses(odometry, {0.3, 1.0}, {loop});
+  EXPECT_LT(Distance(consecutive[1], odometry[1]), 1e-12);
+}
+
 }  // namespace
 }  // namespace f2c
