@@ -38,10 +38,15 @@ bool AlignDepthIcp(const cv::Mat& full_source_depth, const cv::Mat& full_target_
     k.cy = full_k.cy / n;
   }
   const cv::Mat camera = (cv::Mat_<float>(3, 3) << k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
-  cv::rgbd::ICPOdometry icp(camera, static_cast<float>(options.min_depth),
-                            static_cast<float>(options.max_depth),
-                            static_cast<float>(options.max_depth_difference),
-                            static_cast<float>(options.max_points_part), options.iterations);
+  // One ICPOdometry per thread, kept between calls: it keeps its normal estimator, whose
+  // set-up for an image size and camera (per-pixel tables) cost as much as the alignment.
+  thread_local cv::rgbd::ICPOdometry icp;
+  icp.setCameraMatrix(camera);
+  icp.setMinDepth(options.min_depth);
+  icp.setMaxDepth(options.max_depth);
+  icp.setMaxDepthDiff(options.max_depth_difference);
+  icp.setMaxPointsPart(options.max_points_part);
+  icp.setIterationCounts(cv::Mat(options.iterations, true));
   icp.setMaxTranslation(options.max_translation);
   icp.setMaxRotation(options.max_rotation_deg);
   cv::Mat init(4, 4, CV_64F);
