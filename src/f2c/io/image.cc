@@ -7,16 +7,26 @@
 #include <vector>
 #include <opencv2/imgcodecs.hpp>
 
+#include "f2c/io/png.h"
 #include "f2c/util/error.h"
+#include "f2c/util/file.h"
 
 namespace f2c {
 namespace {
 
+PngRequest AsPngRequest(int flags) {
+  if (flags == cv::IMREAD_GRAYSCALE) return PngRequest::kGray;
+  if (flags == cv::IMREAD_COLOR) return PngRequest::kBgr;
+  return PngRequest::kUnchanged;  // cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR
+}
+
 cv::Mat Decode(const std::filesystem::path& path, int flags) {
   if (!std::filesystem::is_regular_file(path)) ThrowInputError(path, "missing frame image");
+  const std::string bytes = ReadFileToString(path);
   cv::Mat image;
+  if (DecodePng(bytes, AsPngRequest(flags), &image)) return image;
   try {
-    image = cv::imread(path.string(), flags);
+    image = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), flags);
   } catch (const cv::Exception&) {
     image.release();
   }

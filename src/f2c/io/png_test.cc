@@ -1,0 +1,193 @@
+#include "f2c/io/png.h"
+
+#include <gtest/gtest.h>
+#include <libdeflate.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace f2c {
+namespace {
+
+// A test image: smooth ramps (which the predictive filters turn into small numbers) with
+// noise, and flat grey patches (R = G = B, which the grey conversion passes through).
+cv::Mat TestImage(int type, uint32_t seed) {
+  cv::Mat image(37, 53, type);
+  std::mt19937 rng(seed);
+  const int channels = image.channels();
+  for (int y = 0; y < image.rows; ++y) {
+    for (int x = 0; x < image.cols; ++x) {
+      const bool patch = x < 10 && y < 10;
+      const int base = static_cast<int>(rng() % 256);
+      for (int c = 0; c < channels; ++c) {
+        const int v = patch ? base : (x * 7 + y * 3 + c * 40 + static_cast<int>(rng() % 9)) % 256;
+        if (image.depth() == CV_16U) {
+          image.ptr<uint16_t>(y)[x * channels + c] = static_cast<uint16_t>(v * 257 + static_cast<int>(rng() % 200));
+        } else {
+          image.ptr<uint8_t>(y)[x * channels + c] = static_cast<uint8_t>(v);
+        }
+      }
+    }
+  }
+  return image;
+}
+
+void Put32(std::string* s, uint32_t v) {
+  for (int shift = 24; shift >= 0; shift -= 8) s->push_back(static_cast<char>((v >> shift) & 0xff));
+}
+
+void PutChunk(std::string* png, const std::string& type, const std::string& body) {
+  Put32(png, static_cast<uint32_t>(body.size()));
+  const std::string typed = type + body;
+  png->append(typed);
+  Put32(png, libdeflate_crc32(0, typed.data(), typed.size()));
+}
+
+// A PNG encoded independently of libpng: `filter` (0-4; 5 writes an invalid filter type) on
+// every row, or row % 5 for -1, so
+// each of the five filters is checked against OpenCV's decoder (libpng). `image` is grey or
+// RGB (as OpenCV's BGR), 8 or 16 bits. The zlib stream is split over two IDAT chunks.
+std::string EncodePng(const cv::Mat& image, int filter, const std::string& extra_chunk = {}) {
+  const int channels = image.channels(), bytes = image.depth() == CV_16U ? 2 : 1, bpp = channels * bytes;
+  const size_t row_bytes = static_cast<size_t>(image.cols) * bpp;
+  std::vector<uint8_t> rows(image.rows * row_bytes);
+  for (int y = 0; y < image.rows; ++y) {
+    for (int x = 0; x < image.cols; ++x) {
+      for (int c = 0; c < channels; ++c) {
+        const int source = channels == 3 ? 2 - c : c;  // BGR to RGB
+        uint8_t* out = &rows[y * row_bytes + x * bpp + c * bytes];
+        if (bytes == 2) {
+          const uint16_t v = image.ptr<uint16_t>(y)[x * channels + source];
+          out[0] = static_cast<uint8_t>(v >> 8), out[1] = static_cast<uint8_t>(v & 0xff);
+        } else {
+          out[0] = image.ptr<uint8_t>(y)[x * channels + source];
+        }
+      }
+    }
+  }
+  std::vector<uint8_t> filtered;
+  for (int y = 0; y < image.rows; ++y) {
+    const int f = filter < 0 ? y % 5 : filter;
+    filtered.push_back(static_cast<uint8_t>(f));
+    const uint8_t* row = &rows[y * row_bytes];
+    for (size_t i = 0; i < row_bytes; ++i) {
+      const int a = i >= static_cast<size_t>(bpp) ? row[i - bpp] : 0;
+      const int b = y > 0 ? row[i - row_bytes] : 0;
+      const int c = y > 0 && i >= static_cast<size_t>(bpp) ? row[i - row_bytes - bpp] : 0;
+      const int pa = std::abs(b - c), pb = std::abs(a - c), pc = std::abs(a + b - 2 * c);
+      const int predictor[5] = {0, a, b, (a + b) / 2, pa <= pb && pa <= pc ? a : (pb <= pc ? b : c)};
+      filtered.push_back(static_cast<uint8_t>(row[i] - predictor[f > 4 ? 0 : f]));  // f > 4: invalid
+    }
+  }
+  libdeflate_compressor* compressor = libdeflate_alloc_compressor(6);
+  std::string stream(libdeflate_zlib_compress_bound(compressor, filtered.size()), '\0');
+  stream.resize(libdeflate_zlib_compress(compressor, filtered.data(), filtered.size(), stream.data(), stream.size()));
+  libdeflate_free_compressor(compressor);
+
+  std::string png("\x89PNG\r\n\x1a\n", 8), header;
+  Put32(&header, image.cols);
+  Put32(&header, image.rows);
+  header += {static_cast<char>(8 * bytes), static_cast<char>(channels == 3 ? 2 : 0), 0, 0, 0};
+  PutChunk(&png, "IHDR", header);
+  PutChunk(&png, "tEXt", std::string("Comment\0test", 12));  // ancillary, no effect on pixels
+  if (!extra_chunk.empty()) PutChunk(&png, extra_chunk.substr(0, 4), extra_chunk.substr(4));
+  PutChunk(&png, "IDAT", stream.substr(0, stream.size() / 2));
+  PutChunk(&png, "IDAT", stream.substr(stream.size() / 2));
+  PutChunk(&png, "IEND", "");
+  return png;
+}
+
+cv::Mat OpenCv(const std::string& png, int flags) {
+  return cv::imdecode(cv::Mat(1, static_cast<int>(png.size()), CV_8U, const_cast<char*>(png.data())), flags);
+}
+
+void ExpectSame(const cv::Mat& ours, const cv::Mat& theirs) {
+  ASSERT_FALSE(theirs.empty());
+  ASSERT_EQ(ours.type(), theirs.type());
+  ASSERT_EQ(ours.size(), theirs.size());
+  EXPECT_EQ(cv::norm(ours, theirs, cv::NORM_INF), 0.0);
+}
+
+struct Case {
+  PngRequest request;
+  int flags;
+};
+const Case kCases[] = {{PngRequest::kGray, cv::IMREAD_GRAYSCALE},
+                       {PngRequest::kBgr, cv::IMREAD_COLOR},
+                       {PngRequest::kUnchanged, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR}};
+
+TEST(DecodePng, RgbEqualsOpenCvForEveryFilterAndRequest) {
+  for (int filter = -1; filter <= 4; ++filter) {
+    const std::string png = EncodePng(TestImage(CV_8UC3, 1 + filter), filter);
+    for (const Case& c : kCases) {
+      cv::Mat ours;
+      ASSERT_TRUE(DecodePng(png, c.request, &ours)) << "filter " << filter;
+      ExpectSame(ours, OpenCv(png, c.flags));
+    }
+  }
+}
+
+TEST(DecodePng, GreyEqualsOpenCvForEveryFilterAndRequest) {
+  for (int filter = -1; filter <= 4; ++filter) {
+    const std::string png = EncodePng(TestImage(CV_8UC1, 11 + filter), filter);
+    for (const Case& c : kCases) {
+      cv::Mat ours;
+      ASSERT_TRUE(DecodePng(png, c.request, &ours)) << "filter " << filter;
+      ExpectSame(ours, OpenCv(png, c.flags));
+    }
+  }
+}
+
+TEST(DecodePng, SixteenBitDepthEqualsOpenCv) {
+  for (int filter = -1; filter <= 4; ++filter) {
+    const cv::Mat depth = TestImage(CV_16UC1, 21 + filter);
+    const std::string png = EncodePng(depth, filter);
+    cv::Mat ours;
+    ASSERT_TRUE(DecodePng(png, PngRequest::kUnchanged, &ours)) << "filter " << filter;
+    ExpectSame(ours, depth);
+    ExpectSame(ours, OpenCv(png, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR));
+  }
+}
+
+TEST(DecodePng, EqualsOpenCvOnItsOwnFiles) {
+  // libpng's own encoder picks a filter per row; every compression level.
+  for (int level = 0; level <= 9; level += 3) {
+    std::vector<uchar> buffer;
+    cv::imencode(".png", TestImage(CV_8UC3, 40 + level), buffer, {cv::IMWRITE_PNG_COMPRESSION, level});
+    const std::string png(buffer.begin(), buffer.end());
+    for (const Case& c : kCases) {
+      cv::Mat ours;
+      ASSERT_TRUE(DecodePng(png, c.request, &ours)) << "level " << level;
+      ExpectSame(ours, OpenCv(png, c.flags));
+    }
+  }
+}
+
+TEST(DecodePng, StepsAsideForWhatItDoesNotHandle) {
+  cv::Mat out;
+  const cv::Mat rgb = TestImage(CV_8UC3, 5);
+  // Not this path's kinds: alpha, 16-bit colour, 16-bit asked as 8-bit, a gamma chunk.
+  std::vector<uchar> buffer;
+  cv::imencode(".png", TestImage(CV_8UC4, 6), buffer);
+  EXPECT_FALSE(DecodePng(std::string(buffer.begin(), buffer.end()), PngRequest::kBgr, &out));
+  cv::imencode(".png", TestImage(CV_16UC3, 7), buffer);
+  EXPECT_FALSE(DecodePng(std::string(buffer.begin(), buffer.end()), PngRequest::kUnchanged, &out));
+  EXPECT_FALSE(DecodePng(EncodePng(TestImage(CV_16UC1, 8), 1), PngRequest::kGray, &out));
+  EXPECT_FALSE(DecodePng(EncodePng(rgb, 1, std::string("gAMA\0\0\xb1\x8f", 8)), PngRequest::kGray, &out));
+  // Damaged: a flipped bit in the image data (CRC), a cut file, a bad filter type, not a PNG.
+  const std::string png = EncodePng(rgb, 4);
+  ASSERT_TRUE(DecodePng(png, PngRequest::kGray, &out));
+  const cv::Mat decoded = out;
+  std::string flipped = png;
+  flipped[png.size() - 40] ^= 0x10;
+  EXPECT_FALSE(DecodePng(flipped, PngRequest::kGray, &out));
+  EXPECT_FALSE(DecodePng(png.substr(0, png.size() - 30), PngRequest::kGray, &out));
+  EXPECT_FALSE(DecodePng(EncodePng(rgb, 5), PngRequest::kGray, &out));
+  EXPECT_FALSE(DecodePng("\xff\xd8\xff\xe0 not a png", PngRequest::kGray, &out));
+  EXPECT_EQ(out.data, decoded.data);  // untouched by the failures
+}
+
+}  // namespace
+}  // namespace f2c
