@@ -141,34 +141,44 @@ PointGrid BuildPointGrid(const cv::Mat& depth, const CameraIntrinsics& k, const 
 
   // Normals: covariance of the neighbours, smallest eigenvector. Centred on the cell's own
   // point (not the neighbours' mean) while accumulating, for numerical stability in float.
+  // The points are read from planar copies (x, y, z apart) and the covariance accumulated in
+  // its six distinct entries: this loop is most of the grid's cost.
   const int r = std::max(1, o.normal_radius_pixels / o.step);
   const float r2 = static_cast<float>(o.normal_radius * o.normal_radius);
+  std::vector<float> px(n), py(n), pz(n);
+  for (int i = 0; i < n; ++i) px[i] = g.points[i].x(), py[i] = g.points[i].y(), pz[i] = g.points[i].z();
   for (int y = 0; y < g.height; ++y) {
     for (int x = 0; x < g.width; ++x) {
       const int i = g.Index(x, y);
-      if (!g.Valid(i)) continue;
-      const Eigen::Vector3f& c = g.points[i];
-      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-      Eigen::Matrix3f sum2 = Eigen::Matrix3f::Zero();
+      if (!(pz[i] > 0)) continue;
+      const float cx = px[i], cy = py[i], cz = pz[i];
+      float sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
       int count = 0;
+      const int x0 = std::max(0, x - r), x1 = std::min(g.width - 1, x + r);
       for (int yy = std::max(0, y - r); yy <= std::min(g.height - 1, y + r); ++yy) {
-        for (int xx = std::max(0, x - r); xx <= std::min(g.width - 1, x + r); ++xx) {
-          const int j = g.Index(xx, yy);
-          if (!g.Valid(j)) continue;
-          const Eigen::Vector3f d = g.points[j] - c;
-          if (d.squaredNorm() > r2) continue;
-          sum += d;
-          sum2 += d * d.transpose();
-          ++count;
+        for (int j = g.Index(x0, yy), end = g.Index(x1, yy); j <= end; ++j) {
+          // Without branches (whether a neighbour counts is unpredictable): a neighbour that
+          // does not count adds exact zeros, which leaves every sum as it was.
+          const float dx = px[j] - cx, dy = py[j] - cy, dz = pz[j] - cz;
+          const bool in = pz[j] > 0 && dx * dx + dy * dy + dz * dz <= r2;
+          const float w = in ? 1.0f : 0.0f;
+          const float wx = w * dx, wy = w * dy, wz = w * dz;
+          sx += wx, sy += wy, sz += wz;
+          sxx += wx * dx, sxy += wx * dy, sxz += wx * dz;
+          syy += wy * dy, syz += wy * dz, szz += wz * dz;
+          count += in;
         }
       }
       if (count < o.min_normal_points) continue;
+      const Eigen::Vector3f sum(sx, sy, sz);
+      Eigen::Matrix3f sum2;
+      sum2 << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
       const Eigen::Vector3d mean = (sum / count).cast<double>();
       const Eigen::Matrix3d cov = (sum2 / count).cast<double>() - mean * mean.transpose();
       double curvature = 0;
       Eigen::Vector3d normal;
       if (!SmallestEigenvector(cov, &normal, &curvature)) continue;
-      if (normal.dot(c.cast<double>()) > 0) normal = -normal;  // towards the camera
+      if (normal.dot(g.points[i].cast<double>()) > 0) normal = -normal;  // towards the camera
       g.normals[i] = normal.cast<float>();
       g.curvature[i] = static_cast<float>(curvature);
       g.residual[i] = static_cast<float>(std::sqrt(curvature * cov.trace()));

@@ -73,8 +73,13 @@ struct Edge {
 ProxySegmentation ExtractProxies(const PointGrid& g, const ProxyOptions& o) {
   o.Check();
   const int n = g.width * g.height;
-  auto Member = [&](int i) { return IsFlat(g, i, o); };
-  std::vector<Cluster> clusters(n);
+  std::vector<uint8_t> flat(n);
+  for (int i = 0; i < n; ++i) flat[i] = IsFlat(g, i, o);
+  auto Member = [&](int i) { return flat[i] != 0; };
+  // Reused between frames on a thread: a frame's clusters are megabytes, and fresh pages
+  // cost more than filling them.
+  thread_local std::vector<Cluster> clusters;
+  clusters.assign(n, Cluster{});
   for (int i = 0; i < n; ++i) {
     clusters[i].parent = i;
     if (!Member(i)) continue;
