@@ -20,10 +20,21 @@ std::string ReadFileToString(const fs::path& path) {
     if (!fs::exists(path)) ThrowInputError(path, "no such file");
     ThrowInputError(path, "cannot open for reading");
   }
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
+  // One read into a buffer of the file's size (a stream copy grew and copied the buffer
+  // several times: a tenth of a frame's decoding). A file that changes size while being read
+  // still reads whole: the stream copy takes over for whatever follows.
+  std::error_code error;
+  const uintmax_t size = fs::file_size(path, error);
+  std::string bytes(error ? 0 : static_cast<size_t>(size), '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   if (in.bad()) ThrowInputError(path, "read error");
-  return buffer.str();
+  bytes.resize(static_cast<size_t>(in.gcount()));
+  if (in) {
+    std::ostringstream rest;
+    rest << in.rdbuf();
+    bytes += rest.str();
+  }
+  return bytes;
 }
 
 void WriteFileAtomic(const fs::path& path, std::string_view content) {
