@@ -33,5 +33,30 @@ TEST(Ply, RoundTripsPointsNormalsAndColours) {
   EXPECT_FALSE(std::filesystem::exists(dir / "b.ply"));
 }
 
+TEST(Ply, RoundTripsTrianglesAndRejectsACutFile) {
+  const auto dir = testing::FreshTempDir("ply_mesh");
+  PlyPoints m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  m.colors = {{{1, 2, 3}}, {{4, 5, 6}}, {{7, 8, 9}}, {{10, 11, 12}}};
+  m.faces = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  WritePly(dir / "m.ply", m);
+  const PlyPoints q = ReadPly(dir / "m.ply");
+  EXPECT_EQ(q.positions, m.positions);
+  EXPECT_EQ(q.colors, m.colors);
+  EXPECT_EQ(q.faces, m.faces);
+  const std::string bytes = ReadFileToString(dir / "m.ply");
+  EXPECT_NE(bytes.find("element face 4\nproperty list uchar int vertex_indices\n"), std::string::npos);
+  // 4 vertices of 15 bytes, 4 faces of 13.
+  EXPECT_EQ(bytes.size() - (bytes.find("end_header\n") + 11), 4u * 15u + 4u * 13u);
+
+  WriteFileAtomic(dir / "cut.ply", bytes.substr(0, bytes.size() - 5));
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadPly(dir / "cut.ply"); }),
+            (dir / "cut.ply").string() + ": PLY: file size does not match its header (cut short?)");
+  PlyPoints bad = m;
+  bad.faces.push_back({0, 1, 4});
+  EXPECT_EQ(testing::InputErrorMessage([&] { WritePly(dir / "bad.ply", bad); }),
+            (dir / "bad.ply").string() + ": PLY: a face names vertex 4 of 4");
+}
+
 }  // namespace
 }  // namespace f2c

@@ -1,0 +1,215 @@
+#include "f2c/fusion/tsdf.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "f2c/util/error.h"
+
+namespace f2c {
+
+void TsdfOptions::Check() const {
+  if (!(voxel_size >= 0.001 && voxel_size <= 0.5)) ThrowInputError("--voxel-size", "must be in [0.001, 0.5] metres");
+  if (truncation_voxels < 1 || truncation_voxels > 64) ThrowInputError("--truncation-voxels", "must be in 1..64");
+  if (!(min_depth >= 0 && max_depth > min_depth && std::isfinite(max_depth))) {
+    ThrowInputError("--fuse-max-depth", "need 0 <= min depth < max depth, finite");
+  }
+}
+
+uint64_t PackCoords(const Eigen::Vector3i& c) {
+  return (static_cast<uint64_t>(static_cast<uint32_t>(c.x()) & 0x1FFFFF) << 42) |
+         (static_cast<uint64_t>(static_cast<uint32_t>(c.y()) & 0x1FFFFF) << 21) |
+         (static_cast<uint64_t>(static_cast<uint32_t>(c.z()) & 0x1FFFFF));
+}
+
+namespace {
+
+constexpr uint64_t kEmpty = ~uint64_t{0};
+
+size_t Slot(const std::vector<uint64_t>& keys, uint64_t key) {
+  const size_t mask = keys.size() - 1;
+  size_t i = (key * 0x9E3779B97F4A7C15ULL) >> 40 & mask;  // Fibonacci hashing
+  while (keys[i] != kEmpty && keys[i] != key) i = (i + 1) & mask;
+  return i;
+}
+
+int FloorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+}  // namespace
+
+TsdfVolume::TsdfVolume(const TsdfOptions& options) : options_(options) {
+  options_.Check();
+  keys_.assign(1 << 12, kEmpty);
+  values_.assign(keys_.size(), -1);
+}
+
+size_t TsdfVolume::MemoryBytes() const {
+  return blocks_.size() * sizeof(blocks_[0]) + coords_.capacity() * sizeof(coords_[0]) +
+         keys_.size() * (sizeof(uint64_t) + sizeof(int));
+}
+
+int TsdfVolume::FindBlock(const Eigen::Vector3i& block) const { return values_[Slot(keys_, PackCoords(block))]; }
+
+int TsdfVolume::AddBlock(const Eigen::Vector3i& block) {
+  if (2 * (coords_.size() + 1) > keys_.size()) {  // keep the table at most half full
+    std::vector<uint64_t> keys(2 * keys_.size(), kEmpty);
+    std::vector<int> values(keys.size(), -1);
+    for (size_t i = 0; i < keys_.size(); ++i) {
+      if (keys_[i] == kEmpty) continue;
+      const size_t j = Slot(keys, keys_[i]);
+      keys[j] = keys_[i], values[j] = values_[i];
+    }
+    keys_.swap(keys), values_.swap(values);
+  }
+  const uint64_t key = PackCoords(block);
+  const size_t i = Slot(keys_, key);
+  if (keys_[i] == key) return values_[i];
+  keys_[i] = key;
+  values_[i] = static_cast<int>(coords_.size());
+  coords_.push_back(block);
+  blocks_.emplace_back();
+  return values_[i];
+}
+
+namespace {
+
+Eigen::Vector3i BlockOf(const Eigen::Vector3i& v) {
+  return {FloorDiv(v.x(), kTsdfBlockSide), FloorDiv(v.y(), kTsdfBlockSide), FloorDiv(v.z(), kTsdfBlockSide)};
+}
+
+int OffsetIn(const Eigen::Vector3i& v, const Eigen::Vector3i& block) {
+  const Eigen::Vector3i o = v - block * kTsdfBlockSide;
+  return (o.z() * kTsdfBlockSide + o.y()) * kTsdfBlockSide + o.x();
+}
+
+}  // namespace
+
+const TsdfVoxel* TsdfVolume::Find(const Eigen::Vector3i& v) const {
+  const Eigen::Vector3i block = BlockOf(v);
+  const int b = FindBlock(block);
+  return b < 0 ? nullptr : &blocks_[b][OffsetIn(v, block)];
+}
+
+TsdfVoxel& TsdfVolume::At(const Eigen::Vector3i& v) {
+  const Eigen::Vector3i block = BlockOf(v);
+  return blocks_[AddBlock(block)][OffsetIn(v, block)];
+}
+
+void TsdfVolume::Integrate(const cv::Mat& depth, const cv::Mat& bgr, const CameraIntrinsics& k,
+                           const Rigid3d& world_from_camera) {
+  F2C_CHECK(depth.type() == CV_32F, "depth is CV_32F metres");
+  F2C_CHECK(bgr.empty() || (bgr.type() == CV_8UC3 && bgr.size() == depth.size()), "colour is 8UC3 of the depth's size");
+  const float voxel = static_cast<float>(options_.voxel_size);
+  const float trunc = static_cast<float>(options_.Truncation());
+  const float block_len = voxel * kTsdfBlockSide;
+  const float min_depth = static_cast<float>(options_.min_depth), max_depth = static_cast<float>(options_.max_depth);
+  const Eigen::Matrix3f r_wc = world_from_camera.linear().cast<float>();
+  const Eigen::Vector3f t_wc = world_from_camera.translation().cast<float>();
+  const float fx = static_cast<float>(k.fx), fy = static_cast<float>(k.fy);
+  const float cx = static_cast<float>(k.cx), cy = static_cast<float>(k.cy);
+
+  // 1. The blocks the truncation band touches: every block each valid pixel's ray passes
+  // through from z - trunc to z + trunc, walked block by block (Amanatides & Woo's grid
+  // traversal, in block units). Every second pixel in each direction: at 1 cm voxels a
+  // block spans ~20 pixels at 2 m, so the rays are still far denser than the blocks. Sorted,
+  // so blocks are created in the same order for any thread count.
+  constexpr int kPixelStride = 2;
+  tbb::enumerable_thread_specific<std::vector<uint64_t>> found;
+  tbb::parallel_for(tbb::blocked_range<int>(0, depth.rows / kPixelStride, 8), [&](const tbb::blocked_range<int>& rows) {
+    std::vector<uint64_t>& keys = found.local();
+    uint64_t last = kEmpty;
+    for (int row = rows.begin(); row < rows.end(); ++row) {
+      const int v = row * kPixelStride;
+      const float* z_row = depth.ptr<float>(v);
+      for (int u = 0; u < depth.cols; u += kPixelStride) {
+        const float z = z_row[u];
+        if (!(z >= min_depth && z <= max_depth)) continue;
+        const Eigen::Vector3f ray = r_wc * Eigen::Vector3f((u - cx) / fx, (v - cy) / fy, 1.0f);
+        const Eigen::Vector3f a = (t_wc + ray * (z - trunc)) / block_len, b = (t_wc + ray * (z + trunc)) / block_len;
+        const Eigen::Vector3f d = b - a;
+        Eigen::Vector3i block = a.array().floor().cast<int>();
+        const Eigen::Vector3i end = b.array().floor().cast<int>();
+        Eigen::Vector3i step;
+        Eigen::Vector3f t_max, t_delta;  // ray parameter (0..1) of the next border, and per block
+        for (int i = 0; i < 3; ++i) {
+          step[i] = d[i] > 0 ? 1 : -1;
+          t_delta[i] = d[i] != 0 ? std::abs(1.0f / d[i]) : std::numeric_limits<float>::infinity();
+          const float border = d[i] > 0 ? static_cast<float>(block[i] + 1) : static_cast<float>(block[i]);
+          t_max[i] = d[i] != 0 ? (border - a[i]) / d[i] : std::numeric_limits<float>::infinity();
+        }
+        const int most = (end - block).cwiseAbs().sum();
+        for (int n = 0;; ++n) {
+          const uint64_t key = PackCoords(block);
+          if (key != last) keys.push_back(key), last = key;
+          if (n >= most || block == end) break;
+          int i = 0;
+          t_max.minCoeff(&i);
+          block[i] += step[i];
+          t_max[i] += t_delta[i];
+        }
+      }
+    }
+  });
+  std::vector<uint64_t> keys;
+  for (const std::vector<uint64_t>& part : found) keys.insert(keys.end(), part.begin(), part.end());
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  std::vector<int> touched;
+  touched.reserve(keys.size());
+  for (uint64_t key : keys) {
+    auto unpack = [](uint64_t bits) {  // sign-extend 21 bits
+      return static_cast<int>(static_cast<int64_t>(bits << 43) >> 43);
+    };
+    touched.push_back(AddBlock(Eigen::Vector3i(unpack(key >> 42), unpack(key >> 21), unpack(key))));
+  }
+
+  // 2. Their voxels, in parallel (each voxel belongs to one block: no two threads write one).
+  // A voxel's camera coordinates step by a constant vector along x.
+  const Eigen::Matrix3f r_cw = r_wc.transpose();
+  const Eigen::Vector3f t_cw = -(r_cw * t_wc);
+  const Eigen::Vector3f step_x = r_cw.col(0) * voxel;
+  const bool colour = !bgr.empty();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, touched.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t n = range.begin(); n < range.end(); ++n) {
+      const int b = touched[n];
+      std::array<TsdfVoxel, kTsdfBlockVoxels>& block = blocks_[b];
+      const Eigen::Vector3i origin = coords_[b] * kTsdfBlockSide;
+      for (int z = 0; z < kTsdfBlockSide; ++z) {
+        for (int y = 0; y < kTsdfBlockSide; ++y) {
+          const Eigen::Vector3f world = (origin + Eigen::Vector3i(0, y, z)).cast<float>() * voxel;
+          Eigen::Vector3f p = r_cw * world + t_cw;
+          TsdfVoxel* row = &block[(z * kTsdfBlockSide + y) * kTsdfBlockSide];
+          for (int x = 0; x < kTsdfBlockSide; ++x, p += step_x) {
+            if (!(p.z() > 0)) continue;
+            const float inv_z = 1.0f / p.z();
+            const int u = static_cast<int>(std::lround(fx * p.x() * inv_z + cx));
+            const int v = static_cast<int>(std::lround(fy * p.y() * inv_z + cy));
+            if (u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) continue;
+            const float d = depth.ptr<float>(v)[u];
+            if (!(d >= min_depth && d <= max_depth)) continue;
+            const float sdf = d - p.z();
+            if (sdf < -trunc) continue;  // hidden behind the surface
+            const float tsdf = std::min(1.0f, sdf / trunc);
+            TsdfVoxel& voxel_ref = row[x];
+            const float w = voxel_ref.weight;
+            voxel_ref.tsdf = (voxel_ref.tsdf * w + tsdf) / (w + 1.0f);
+            if (colour) {
+              const uint8_t* c = bgr.ptr<uint8_t>(v) + 3 * u;
+              for (int i = 0; i < 3; ++i) {  // stored RGB, read BGR
+                voxel_ref.rgb[i] = static_cast<uint8_t>(std::lround((voxel_ref.rgb[i] * w + c[2 - i]) / (w + 1.0f)));
+              }
+            }
+            voxel_ref.weight = w + 1.0f;
+          }
+        }
+      }
+    }
+  });
+}
+
+}  // namespace f2c
