@@ -9,6 +9,7 @@
 #include <string>
 
 #include "f2c/features/depth_features.h"
+#include "f2c/fusion/fuse.h"
 #include "f2c/io/sequence.h"
 #include "f2c/odometry/odometry.h"
 #include "f2c/refine/refine.h"
@@ -25,6 +26,7 @@ Subcommand AddEvaluateCommand(CLI::App* app);
 Subcommand AddSimulateCommand(CLI::App* app);
 Subcommand AddDemoCommand(CLI::App* app);
 Subcommand AddInfoCommand(CLI::App* app);
+Subcommand AddFuseCommand(CLI::App* app);
 
 // The subcommands' arguments and bodies (the demo runs simulate, register and evaluate).
 
@@ -85,6 +87,17 @@ struct DemoArgs {
   uint64_t seed = 0;
 };
 int RunDemo(const DemoArgs& args);
+
+struct FuseArgs {
+  std::string input;
+  std::string trajectory;
+  std::string output;  // the .ply
+  IoOptions io;
+  FusionOptions fusion;
+  bool json = false;
+  bool quiet = false;
+};
+int RunFuse(const FuseArgs& args);
 
 struct InfoArgs {
   std::string input;

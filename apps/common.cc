@@ -55,4 +55,37 @@ void AddFeatureOptions(CLI::App* cmd, f2c::FeatureOptions* f) {
       ->group(group);
 }
 
+void AddFusionOptions(CLI::App* cmd, FusionOptions* f) {
+  const std::string group = "Mesh (TSDF fusion, marching cubes; docs/fusion.md)";
+  auto add = [&](const std::string& name, auto* value, const std::string& help) {
+    cmd->add_option(name, *value, help)->capture_default_str()->group(group);
+  };
+  add("--voxel-size", &f->tsdf.voxel_size, "TSDF voxel edge (m)");
+  add("--truncation-voxels", &f->tsdf.truncation_voxels, "signed distances are truncated at this many voxels");
+  add("--fuse-max-depth", &f->tsdf.max_depth, "depth beyond this (m) is not fused");
+  add("--fuse-every", &f->every, "fuse every N-th frame that has a pose");
+  add("--mesh-min-weight", &f->mesh.min_weight, "mesh only where every voxel was seen this often");
+}
+
+json ToJson(const FusionOptions& f) {
+  return {{"voxel_size", f.tsdf.voxel_size},      {"truncation_voxels", f.tsdf.truncation_voxels},
+          {"min_depth", f.tsdf.min_depth},        {"max_depth", f.tsdf.max_depth},
+          {"every", f.every},                     {"mesh_min_weight", f.mesh.min_weight}};
+}
+
+json ToJson(const FusionTimings& t, const PlyPoints& mesh) {
+  const double frames = std::max(t.frames_fused, 1);
+  return {{"frames_fused", t.frames_fused},
+          {"frames_without_pose", t.frames_without_pose},
+          {"wall_s", t.wall},
+          {"integrate_s", t.integrate},
+          {"mesh_s", t.mesh},
+          {"decode_cpu_s", t.decode_cpu},
+          {"ms_per_frame", 1000.0 * t.wall / frames},
+          {"blocks", t.blocks},
+          {"volume_bytes", t.volume_bytes},
+          {"vertices", mesh.positions.size()},
+          {"triangles", mesh.faces.size()}};
+}
+
 }  // namespace f2c::app

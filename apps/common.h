@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "f2c/features/depth_features.h"
+#include "f2c/fusion/fuse.h"
 #include "f2c/io/sequence.h"
 
 namespace f2c::app {
@@ -18,5 +19,9 @@ nlohmann::json ToJson(const IoOptions& io);
 void AddFrameSelection(CLI::App* cmd, IoOptions* io);
 // The feature extraction's options (paper 4.1).
 void AddFeatureOptions(CLI::App* cmd, FeatureOptions* features);
+// The TSDF fusion's options (--voxel-size, --truncation-voxels, --fuse-max-depth, --fuse-every).
+void AddFusionOptions(CLI::App* cmd, FusionOptions* fusion);
+nlohmann::json ToJson(const FusionOptions& fusion);
+nlohmann::json ToJson(const FusionTimings& timings, const PlyPoints& mesh);
 
 }  // namespace f2c::app

@@ -2,6 +2,7 @@
 //
 //   fine2coarse register INPUT -o OUTDIR [options]
 //   fine2coarse features INPUT -o OUTDIR [--images] [--ply]
+//   fine2coarse fuse INPUT --trajectory FILE -o mesh.ply [--voxel-size M]
 //   fine2coarse evaluate --estimate FILE --ground-truth FILE_OR_DATASET [--json]
 //   fine2coarse simulate -o OUTDIR [--scene S] [--frames N]
 //   fine2coarse demo [-o OUTDIR]
@@ -33,7 +34,8 @@ int main(int argc, char** argv) {
   using namespace f2c::app;
   const std::vector<Subcommand> commands = {AddRegisterCommand(&app), AddFeaturesCommand(&app),
                                             AddEvaluateCommand(&app), AddSimulateCommand(&app),
-                                            AddDemoCommand(&app),     AddInfoCommand(&app)};
+                                            AddDemoCommand(&app),     AddInfoCommand(&app),
+                                            AddFuseCommand(&app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

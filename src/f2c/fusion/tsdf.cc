@@ -115,18 +115,26 @@ void TsdfVolume::Integrate(const cv::Mat& depth, const cv::Mat& bgr, const Camer
 
   // 1. The blocks the truncation band touches: every block each valid pixel's ray passes
   // through from z - trunc to z + trunc, walked block by block (Amanatides & Woo's grid
-  // traversal, in block units). Every second pixel in each direction: at 1 cm voxels a
-  // block spans ~20 pixels at 2 m, so the rays are still far denser than the blocks. Sorted,
-  // so blocks are created in the same order for any thread count.
-  constexpr int kPixelStride = 2;
+  // traversal, in block units), for pixels `stride` apart: at 1 cm voxels a block spans
+  // ~10 pixels at 4 m, and every third pixel is enough. Sorted, so blocks are created in the
+  // same order for any thread count.
+  // Rays at most a third of a block apart where they are sparsest (at max_depth).
+  const int stride = std::clamp(static_cast<int>(block_len * fx / (3 * max_depth)), 1, 8);
   tbb::enumerable_thread_specific<std::vector<uint64_t>> found;
-  tbb::parallel_for(tbb::blocked_range<int>(0, depth.rows / kPixelStride, 8), [&](const tbb::blocked_range<int>& rows) {
+  // Sampled rows and columns: 0, stride, 2 stride, ..., and the last (the image's border).
+  auto samples = [&](int size) { return (size - 1 + stride - 1) / stride + 1; };
+  auto sample = [&](int i, int size) { return std::min(i * stride, size - 1); };
+  tbb::parallel_for(tbb::blocked_range<int>(0, samples(depth.rows), 8), [&](const tbb::blocked_range<int>& rows) {
     std::vector<uint64_t>& keys = found.local();
-    uint64_t last = kEmpty;
+    // Neighbouring rays mostly meet the same blocks: a small direct-mapped cache of keys
+    // already listed keeps the list (and its sort) short.
+    std::array<uint64_t, 256> recent;
+    recent.fill(kEmpty);
     for (int row = rows.begin(); row < rows.end(); ++row) {
-      const int v = row * kPixelStride;
+      const int v = sample(row, depth.rows);
       const float* z_row = depth.ptr<float>(v);
-      for (int u = 0; u < depth.cols; u += kPixelStride) {
+      for (int column = 0, columns = samples(depth.cols); column < columns; ++column) {
+        const int u = sample(column, depth.cols);
         const float z = z_row[u];
         if (!(z >= min_depth && z <= max_depth)) continue;
         const Eigen::Vector3f ray = r_wc * Eigen::Vector3f((u - cx) / fx, (v - cy) / fy, 1.0f);
@@ -145,7 +153,8 @@ void TsdfVolume::Integrate(const cv::Mat& depth, const cv::Mat& bgr, const Camer
         const int most = (end - block).cwiseAbs().sum();
         for (int n = 0;; ++n) {
           const uint64_t key = PackCoords(block);
-          if (key != last) keys.push_back(key), last = key;
+          uint64_t& slot = recent[(key * 0x9E3779B97F4A7C15ULL) >> 56];
+          if (slot != key) keys.push_back(key), slot = key;
           if (n >= most || block == end) break;
           int i = 0;
           t_max.minCoeff(&i);
@@ -169,11 +178,11 @@ void TsdfVolume::Integrate(const cv::Mat& depth, const cv::Mat& bgr, const Camer
   }
 
   // 2. Their voxels, in parallel (each voxel belongs to one block: no two threads write one).
-  // A voxel's camera coordinates step by a constant vector along x.
   const Eigen::Matrix3f r_cw = r_wc.transpose();
   const Eigen::Vector3f t_cw = -(r_cw * t_wc);
-  const Eigen::Vector3f step_x = r_cw.col(0) * voxel;
+  const Eigen::Vector3f step_x = r_cw.col(0) * voxel;  // camera coordinates per voxel along x
   const bool colour = !bgr.empty();
+  const float cols = static_cast<float>(depth.cols), rows = static_cast<float>(depth.rows);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, touched.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
     for (size_t n = range.begin(); n < range.end(); ++n) {
       const int b = touched[n];
@@ -182,26 +191,34 @@ void TsdfVolume::Integrate(const cv::Mat& depth, const cv::Mat& bgr, const Camer
       for (int z = 0; z < kTsdfBlockSide; ++z) {
         for (int y = 0; y < kTsdfBlockSide; ++y) {
           const Eigen::Vector3f world = (origin + Eigen::Vector3i(0, y, z)).cast<float>() * voxel;
-          Eigen::Vector3f p = r_cw * world + t_cw;
+          const Eigen::Vector3f p0 = r_cw * world + t_cw;
           TsdfVoxel* row = &block[(z * kTsdfBlockSide + y) * kTsdfBlockSide];
-          for (int x = 0; x < kTsdfBlockSide; ++x, p += step_x) {
-            if (!(p.z() > 0)) continue;
-            const float inv_z = 1.0f / p.z();
-            const int u = static_cast<int>(std::lround(fx * p.x() * inv_z + cx));
-            const int v = static_cast<int>(std::lround(fy * p.y() * inv_z + cy));
-            if (u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) continue;
+          // The row's 8 projections first, in a loop the compiler vectorises; then the
+          // look-ups and updates one by one. The nearest pixel: + 0.5 and truncation rounds
+          // every coordinate that can land in the image (>= -0.5).
+          float pz[kTsdfBlockSide], uf[kTsdfBlockSide], vf[kTsdfBlockSide];
+          for (int x = 0; x < kTsdfBlockSide; ++x) {
+            const float px = p0.x() + x * step_x.x(), py = p0.y() + x * step_x.y();
+            pz[x] = p0.z() + x * step_x.z();
+            const float inv_z = 1.0f / pz[x];
+            uf[x] = fx * px * inv_z + cx + 0.5f;
+            vf[x] = fy * py * inv_z + cy + 0.5f;
+          }
+          for (int x = 0; x < kTsdfBlockSide; ++x) {
+            if (!(pz[x] > 0 && uf[x] >= 0 && vf[x] >= 0 && uf[x] < cols && vf[x] < rows)) continue;
+            const int u = static_cast<int>(uf[x]), v = static_cast<int>(vf[x]);
             const float d = depth.ptr<float>(v)[u];
             if (!(d >= min_depth && d <= max_depth)) continue;
-            const float sdf = d - p.z();
+            const float sdf = d - pz[x];
             if (sdf < -trunc) continue;  // hidden behind the surface
             const float tsdf = std::min(1.0f, sdf / trunc);
             TsdfVoxel& voxel_ref = row[x];
-            const float w = voxel_ref.weight;
-            voxel_ref.tsdf = (voxel_ref.tsdf * w + tsdf) / (w + 1.0f);
+            const float w = voxel_ref.weight, inv = 1.0f / (w + 1.0f);
+            voxel_ref.tsdf = (voxel_ref.tsdf * w + tsdf) * inv;
             if (colour) {
               const uint8_t* c = bgr.ptr<uint8_t>(v) + 3 * u;
               for (int i = 0; i < 3; ++i) {  // stored RGB, read BGR
-                voxel_ref.rgb[i] = static_cast<uint8_t>(std::lround((voxel_ref.rgb[i] * w + c[2 - i]) / (w + 1.0f)));
+                voxel_ref.rgb[i] = static_cast<uint8_t>((voxel_ref.rgb[i] * w + c[2 - i]) * inv + 0.5f);
               }
             }
             voxel_ref.weight = w + 1.0f;
