@@ -40,6 +40,8 @@ struct RegisterArgs {
   RefineOptions refine;
   bool run_refinement = true;     // false: --stop-after odometry (T0 is the result)
   bool save_iterations = false;   // OUTDIR/iterations/iteration_NN.txt
+  bool fuse_mesh = true;           // OUTDIR/mesh.ply from the final poses (--no-mesh: off)
+  FusionOptions fusion;
   int threads = 0;                 // worker threads (0: all cores); results do not depend on it
   bool use_cache = true;
   bool quiet = false;

@@ -59,7 +59,7 @@ json PairStatistics(const std::vector<PairAlignment>& pairs) {
 }
 
 struct RegisterFlags {
-  bool no_icp = false, no_cache = false, no_features = false;
+  bool no_icp = false, no_cache = false, no_features = false, no_mesh = false;
   std::string stop_after = "refine";
 };
 
@@ -196,10 +196,22 @@ int RunRegister(const RegisterArgs& args) {
   }
   WriteTrajectories(out, seq, result);
   WriteFileAtomic(out / "odometry.json", PairsToJson(odometry.pairs, args.refine.local).dump(1) + "\n");
+  json fusion_stage = nullptr;
+  if (args.fuse_mesh) {
+    // The final poses (T0 with --stop-after odometry) into the mesh.
+    std::vector<std::optional<Rigid3d>> poses(result.world_from_camera.begin(), result.world_from_camera.end());
+    const FusionResult fused = FuseTsdf(seq, poses, args.fusion, args.quiet);
+    WritePly(out / "mesh.ply", fused.mesh);
+    fusion_stage = ToJson(fused.timings, fused.mesh);
+    spdlog::info("mesh: {} vertices, {} triangles from {} frames in {:.1f} s ({:.1f} ms per frame)",
+                 fused.mesh.positions.size(), fused.mesh.faces.size(), fused.timings.frames_fused, fused.timings.wall,
+                 1000.0 * fused.timings.wall / std::max(fused.timings.frames_fused, 1));
+  }
 
   const CameraIntrinsics& k = *seq.intrinsics;
   json outputs = {"trajectory.txt", "trajectory.log", "trajectory.conf", "trajectory_t0.txt", "odometry.json"};
   if (args.save_iterations && index) outputs.push_back("iterations/");
+  if (args.fuse_mesh) outputs.push_back("mesh.ply");
   const bool features_cached = args.extract_features && args.use_cache;
   if (features_cached) outputs.push_back("cache/features.f2cf");
   if (keyframe_store && args.use_cache) outputs.push_back("cache/keyframes.f2ck");
@@ -214,12 +226,14 @@ int RunRegister(const RegisterArgs& args) {
         {"odometry", ToJson(args.odometry)},
         {"features", args.extract_features ? ToJson(args.features) : json(nullptr)},
         {"refine", index ? ToJson(args.refine) : json(nullptr)},
+        {"fusion", args.fuse_mesh ? ToJson(args.fusion) : json(nullptr)},
         {"cache", args.use_cache}}},
       {"stages",
        {{"read", {{"wall_s", read_s}}},
         {"odometry", ToJson(odometry.timings, static_cast<int>(seq.frames.size()))},
         {"features", feature_stage},
-        {"refine", refine_stage}}},
+        {"refine", refine_stage},
+        {"fusion", fusion_stage}}},
       {"statistics", {{"odometry", stats}, {"features", feature_stats}}},
       {"result", index ? "refined" : "t0"},
       {"total_wall_s", total.Seconds()},
@@ -227,8 +241,8 @@ int RunRegister(const RegisterArgs& args) {
       {"outputs", outputs},
   };
   WriteFileAtomic(out / "run.json", report.dump(2) + "\n");
-  std::printf("wrote %s (TUM; %s), trajectory.log, trajectory.conf, trajectory_t0.txt, odometry.json, run.json%s%s\n",
-              (out / "trajectory.txt").string().c_str(), index ? "refined" : "T0",
+  std::printf("wrote %s (TUM; %s), trajectory.log, trajectory.conf, trajectory_t0.txt, odometry.json, run.json%s%s%s\n",
+              (out / "trajectory.txt").string().c_str(), index ? "refined" : "T0", args.fuse_mesh ? ", mesh.ply" : "",
               args.save_iterations && index ? ", iterations/" : "",
               features_cached ? (keyframe_store ? ", cache/features.f2cf, cache/keyframes.f2ck" : ", cache/features.f2cf") : "");
   std::printf("%zu frames in %.1f s (%.1f frames/s)\n", seq.frames.size(), total.Seconds(),
@@ -239,9 +253,9 @@ int RunRegister(const RegisterArgs& args) {
 Subcommand AddRegisterCommand(CLI::App* app) {
   auto args = std::make_shared<RegisterArgs>();
   CLI::App* cmd = app->add_subcommand(
-      "register", "align consecutive frames (SIFT + 3D RANSAC, ICP fallback) into T0, refine it fine-to-coarse "
-                  "and write OUTDIR/trajectory.txt (TUM), trajectory.log, trajectory.conf, trajectory_t0.txt, "
-                  "odometry.json, run.json");
+      "register", "align the frames (keyframe odometry: tracking, SIFT + 3D RANSAC, ICP fallback) into T0, refine "
+                  "it fine-to-coarse, fuse a mesh and write OUTDIR/trajectory.txt (TUM), trajectory.log, "
+                  "trajectory.conf, trajectory_t0.txt, mesh.ply, odometry.json, run.json");
   cmd->add_option("INPUT", args->input, "dataset folder (TUM, 7-Scenes/3DMatch, Redwood/Open3D, SUN3D) or .conf")
       ->required();
   cmd->add_option("-o,--output", args->output, "output folder")->required();
@@ -325,7 +339,9 @@ Subcommand AddRegisterCommand(CLI::App* app) {
       ->group(kg);
   AddFeatureOptions(cmd, &args->features);
   auto flags = std::make_shared<RegisterFlags>();
-  cmd->add_option("--stop-after", flags->stop_after, "odometry: T0 is the result; refine: the fine-to-coarse refinement")
+  cmd->add_option("--stop-after", flags->stop_after,
+                  "odometry: T0 is the result (no refinement, no mesh); refine: the fine-to-coarse refinement, "
+                  "then the mesh")
       ->check(CLI::IsMember({"odometry", "refine"}))
       ->capture_default_str();
   const std::function<void()> refine_names = AddRefineOptions(cmd, &args->refine);
@@ -333,6 +349,8 @@ Subcommand AddRegisterCommand(CLI::App* app) {
   cmd->add_option("--write-config", *write_config, "write this run's options (all of them) to FILE as TOML, for --config")
       ->group("Output");
   cmd->add_flag("--save-iterations", args->save_iterations, "write each refinement iteration's trajectory to OUTDIR/iterations/");
+  AddFusionOptions(cmd, &args->fusion);
+  cmd->add_flag("--no-mesh", flags->no_mesh, "do not fuse the frames into OUTDIR/mesh.ply");
   cmd->add_flag("--no-features", flags->no_features, "skip the feature extraction, and so the refinement (T0 only)");
   cmd->add_flag("--no-icp-fallback", flags->no_icp, "never use depth-only ICP");
   cmd->add_flag("--no-cache", flags->no_cache, "ignore and do not write OUTDIR/cache");
@@ -355,6 +373,8 @@ Subcommand AddRegisterCommand(CLI::App* app) {
     }
     args->run_refinement = flags->stop_after == "refine" && !flags->no_features;
     if (args->run_refinement) args->refine.Check();  // before minutes of odometry
+    args->fuse_mesh = !flags->no_mesh && flags->stop_after != "odometry";
+    if (args->fuse_mesh) args->fusion.Check();
     args->odometry.icp_fallback = !flags->no_icp;
     args->extract_features = !flags->no_features;
     args->use_cache = !flags->no_cache;

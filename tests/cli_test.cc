@@ -92,7 +92,7 @@ TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
   const fs::path out = testing::FreshTempDir("cli_register_out");
   const Result r = RunCli("register " + dir.string() + " --intrinsics 525,525,319.5,239.5 -q -o " + out.string());
   ASSERT_EQ(r.code, 0) << r.output;
-  for (const char* file : {"trajectory.txt", "trajectory.log", "trajectory.conf", "odometry.json", "run.json"}) {
+  for (const char* file : {"trajectory.txt", "trajectory.log", "trajectory.conf", "odometry.json", "run.json", "mesh.ply"}) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
   for (const auto& e : fs::directory_iterator(out)) {
@@ -185,8 +185,45 @@ TEST(Cli, RegisterRefinesAndKeepsT0) {
 
   const fs::path odo = testing::FreshTempDir("cli_refine_odometry");
   ASSERT_EQ(RunCli(base + "--stop-after odometry -o " + odo.string()).code, 0);
+  EXPECT_FALSE(fs::exists(odo / "mesh.ply"));  // T0 only: no mesh
   EXPECT_EQ(ReadFileToString(odo / "trajectory.txt"), ReadFileToString(odo / "trajectory_t0.txt"));
   EXPECT_EQ(ReadFileToString(odo / "trajectory_t0.txt"), ReadFileToString(out / "trajectory_t0.txt"));
+}
+
+// fuse: a dataset and any trajectory file to a mesh on the scene's surfaces; register fuses
+// its final poses into OUTDIR/mesh.ply unless --no-mesh.
+TEST(Cli, FuseWritesTheRoomsSurfacesAndRegisterFusesItsPoses) {
+  const fs::path dir = SyntheticTum("cli_fuse", 6);
+  const fs::path out = testing::FreshTempDir("cli_fuse_out");
+  const std::string base = "fuse " + dir.string() + " --intrinsics primesense -q --trajectory ";
+  const Result r = RunCli(base + (dir / "groundtruth.txt").string() + " -o " + (out / "gt.ply").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("6 frames fused"), std::string::npos) << r.output;
+  const PlyPoints mesh = ReadPly(out / "gt.ply");
+  ASSERT_GT(mesh.faces.size(), 10000u);
+  ASSERT_EQ(mesh.colors.size(), mesh.positions.size());
+  std::vector<double> d;
+  for (const Eigen::Vector3f& p : mesh.positions) d.push_back(testing::SurfaceDistance(testing::SyntheticScene(), p.cast<double>()));
+  std::nth_element(d.begin(), d.begin() + d.size() * 9 / 10, d.end());
+  EXPECT_LT(d[d.size() * 9 / 10], 0.01);
+
+  EXPECT_EQ(RunCli(base + (dir / "groundtruth.txt").string() + " -o " + (out / "m.obj").string()).output,
+            "error: " + (out / "m.obj").string() + ": the mesh is written as PLY: give a .ply file\n");
+  WriteFileAtomic(out / "late.txt", "100.0 0 0 0 0 0 0 1\n");
+  EXPECT_EQ(RunCli(base + (out / "late.txt").string() + " -o " + (out / "late.ply").string()).output,
+            "error: " + (out / "late.txt").string() + ": no pose matches a frame of " + dir.string() +
+                " (time stamps 0.02 s apart at most)\n");
+  EXPECT_FALSE(fs::exists(out / "late.ply"));
+
+  const std::string reg = "register " + dir.string() + " --intrinsics primesense -q --voxel-size 0.02 ";
+  ASSERT_EQ(RunCli(reg + "-o " + (out / "reg").string()).code, 0);
+  const PlyPoints registered = ReadPly(out / "reg" / "mesh.ply");
+  EXPECT_GT(registered.faces.size(), 1000u);
+  const nlohmann::json run = nlohmann::json::parse(ReadFileToString(out / "reg" / "run.json"));
+  EXPECT_EQ(run["stages"]["fusion"]["triangles"].get<size_t>(), registered.faces.size());
+  EXPECT_EQ(run["options"]["fusion"]["voxel_size"].get<double>(), 0.02);
+  ASSERT_EQ(RunCli(reg + "--no-mesh -o " + (out / "none").string()).code, 0);
+  EXPECT_FALSE(fs::exists(out / "none" / "mesh.ply"));
 }
 
 // Any run's options can be written and re-run: the same poses come back.

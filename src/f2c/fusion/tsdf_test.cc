@@ -70,20 +70,6 @@ TEST(TsdfVolume, PlaneZeroCrossingOnThePlaneAndBlocksOnlyInTheBand) {
   }
 }
 
-// Distance from p to the surface of a box (from inside or outside).
-double BoxSurfaceDistance(const testing::Box& box, const Eigen::Vector3d& p) {
-  const Eigen::Vector3d below = box.min - p, above = p - box.max;
-  const Eigen::Vector3d outside = below.cwiseMax(above).cwiseMax(0.0);
-  if (outside.squaredNorm() > 0) return outside.norm();
-  return std::min((p - box.min).minCoeff(), (box.max - p).minCoeff());
-}
-
-double SceneDistance(const testing::SyntheticScene& scene, const Eigen::Vector3d& p) {
-  double d = BoxSurfaceDistance(scene.room, p);
-  for (const testing::Box& solid : scene.solids) d = std::min(d, BoxSurfaceDistance(solid, p));
-  return d;
-}
-
 double Percentile90(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + v.size() * 9 / 10, v.end());
   return v[v.size() * 9 / 10];
@@ -112,7 +98,7 @@ double Fuse90(const std::vector<Rigid3d>& render, const std::vector<Rigid3d>& fu
   }
   const PlyPoints mesh = ExtractMesh(volume);
   std::vector<double> d;
-  for (const Eigen::Vector3f& p : mesh.positions) d.push_back(SceneDistance(scene, p.cast<double>()));
+  for (const Eigen::Vector3f& p : mesh.positions) d.push_back(testing::SurfaceDistance(scene, p.cast<double>()));
   if (mesh_out) *mesh_out = mesh;
   return d.empty() ? 1e9 : Percentile90(d);
 }

@@ -131,4 +131,20 @@ std::filesystem::path FreshTempDir(const std::string& name) {
   return dir;
 }
 
+namespace {
+
+double BoxSurfaceDistance(const Box& box, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d outside = (box.min - p).cwiseMax(p - box.max).cwiseMax(0.0);
+  if (outside.squaredNorm() > 0) return outside.norm();
+  return std::min((p - box.min).minCoeff(), (box.max - p).minCoeff());
+}
+
+}  // namespace
+
+double SurfaceDistance(const SyntheticScene& scene, const Eigen::Vector3d& p) {
+  double d = BoxSurfaceDistance(scene.room, p);
+  for (const Box& solid : scene.solids) d = std::min(d, BoxSurfaceDistance(solid, p));
+  return d;
+}
+
 }  // namespace f2c::testing

@@ -28,6 +28,10 @@ struct RenderedFrame {
 RenderedFrame Render(const SyntheticScene& scene, const CameraIntrinsics& intrinsics,
                      const Rigid3d& world_from_camera);
 
+// Distance (m) from p to the nearest surface of the scene: the room's walls and the solids'
+// faces (tests of reconstructed surfaces).
+double SurfaceDistance(const SyntheticScene& scene, const Eigen::Vector3d& p);
+
 // Intrinsics of a 640x480 PrimeSense-like camera.
 inline CameraIntrinsics TestIntrinsics() { return {525.0, 525.0, 319.5, 239.5, 640, 480}; }
 
