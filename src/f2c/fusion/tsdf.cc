@@ -183,6 +183,11 @@ void TsdfVolume::Integrate(const cv::Mat& depth, const cv::Mat& bgr, const Camer
   const Eigen::Vector3f step_x = r_cw.col(0) * voxel;  // camera coordinates per voxel along x
   const bool colour = !bgr.empty();
   const float cols = static_cast<float>(depth.cols), rows = static_cast<float>(depth.rows);
+  // Plain pointers and strides: the colour stores (uint8_t may alias anything) would
+  // otherwise make the compiler reload the Mats' fields for every voxel.
+  const uint8_t* const depth_data = depth.data;
+  const uint8_t* const bgr_data = bgr.data;
+  const size_t depth_step = depth.step[0], bgr_step = colour ? bgr.step[0] : 0;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, touched.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
     for (size_t n = range.begin(); n < range.end(); ++n) {
       const int b = touched[n];
@@ -207,7 +212,7 @@ void TsdfVolume::Integrate(const cv::Mat& depth, const cv::Mat& bgr, const Camer
           for (int x = 0; x < kTsdfBlockSide; ++x) {
             if (!(pz[x] > 0 && uf[x] >= 0 && vf[x] >= 0 && uf[x] < cols && vf[x] < rows)) continue;
             const int u = static_cast<int>(uf[x]), v = static_cast<int>(vf[x]);
-            const float d = depth.ptr<float>(v)[u];
+            const float d = reinterpret_cast<const float*>(depth_data + v * depth_step)[u];
             if (!(d >= min_depth && d <= max_depth)) continue;
             const float sdf = d - pz[x];
             if (sdf < -trunc) continue;  // hidden behind the surface
@@ -215,11 +220,13 @@ void TsdfVolume::Integrate(const cv::Mat& depth, const cv::Mat& bgr, const Camer
             TsdfVoxel& voxel_ref = row[x];
             const float w = voxel_ref.weight, inv = 1.0f / (w + 1.0f);
             voxel_ref.tsdf = (voxel_ref.tsdf * w + tsdf) * inv;
-            if (colour) {
-              const uint8_t* c = bgr.ptr<uint8_t>(v) + 3 * u;
+            if (colour && sdf < trunc) {
+              const uint8_t* c = bgr_data + v * bgr_step + 3 * u;
+              const float cw = voxel_ref.color_weight, cinv = 1.0f / (cw + 1.0f);
               for (int i = 0; i < 3; ++i) {  // stored RGB, read BGR
-                voxel_ref.rgb[i] = static_cast<uint8_t>((voxel_ref.rgb[i] * w + c[2 - i]) * inv + 0.5f);
+                voxel_ref.rgb[i] = static_cast<uint8_t>((voxel_ref.rgb[i] * cw + c[2 - i]) * cinv + 0.5f);
               }
+              if (voxel_ref.color_weight < 255) ++voxel_ref.color_weight;
             }
             voxel_ref.weight = w + 1.0f;
           }

@@ -36,6 +36,9 @@ struct TsdfVoxel {
   float tsdf = 1.0f;   // signed distance / truncation, in [-1, 1]
   float weight = 0.0f; // 0: never observed
   std::array<uint8_t, 3> rgb{0, 0, 0};
+  // Observations averaged into rgb: only those within the truncation band (free space has no
+  // colour), and at most 255, after which the colour follows the newest frames a little more.
+  uint8_t color_weight = 0;
 };
 
 constexpr int kTsdfBlockSide = 8;

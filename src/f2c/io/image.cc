@@ -7,6 +7,7 @@
 #include <vector>
 #include <opencv2/imgcodecs.hpp>
 
+#include "f2c/io/jpeg.h"
 #include "f2c/io/png.h"
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
@@ -25,6 +26,7 @@ cv::Mat Decode(const std::filesystem::path& path, int flags) {
   const std::string bytes = ReadFileToString(path);
   cv::Mat image;
   if (DecodePng(bytes, AsPngRequest(flags), &image)) return image;
+  if (flags == cv::IMREAD_COLOR && DecodeJpegBgr(bytes, &image)) return image;
   try {
     image = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), flags);
   } catch (const cv::Exception&) {
