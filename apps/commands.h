@@ -96,6 +96,7 @@ struct FuseArgs {
   std::string output;  // the .ply
   IoOptions io;
   FusionOptions fusion;
+  bool pictures = false;  // <mesh>_top.png and <mesh>_view.png beside the mesh
   bool json = false;
   bool quiet = false;
 };

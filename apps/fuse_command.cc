@@ -4,9 +4,11 @@
 
 #include <cstdio>
 #include <memory>
+#include <opencv2/imgcodecs.hpp>
 
 #include "apps/commands.h"
 #include "apps/common.h"
+#include "apps/mesh_views.h"
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
 #include "f2c/util/memory.h"
@@ -28,15 +30,37 @@ int RunFuse(const FuseArgs& args) {
                std::count_if(poses.begin(), poses.end(), [](const auto& p) { return p.has_value(); }), args.trajectory);
   const FusionResult fused = FuseTsdf(seq, poses, args.fusion, args.quiet);
   WritePly(out, fused.mesh);
+  std::vector<fs::path> pictures;
+  if (args.pictures) {
+    // Up: the horizontal surfaces' normal nearest the cameras' mean -y (people hold the
+    // camera about level in roll); ahead: the first posed camera's viewing direction.
+    Eigen::Vector3d camera_up = Eigen::Vector3d::Zero();
+    for (const auto& p : poses) {
+      if (p) camera_up -= p->linear().col(1);
+    }
+    const auto first = std::find_if(poses.begin(), poses.end(), [](const auto& p) { return p.has_value(); });
+    const Eigen::Vector3d up = EstimateUp(fused.mesh, camera_up), ahead = (*first)->linear().col(2);
+    const std::string stem = (out.parent_path() / out.stem()).string();
+    const std::pair<std::string, MeshView> views[] = {{stem + "_top.png", TopView(fused.mesh, up, ahead, 1024)},
+                                                      {stem + "_view.png", PerspectiveView(fused.mesh, up, ahead, 1024, 768)}};
+    for (const auto& [path, view] : views) {
+      const std::string tmp = path + ".tmp.png";
+      if (!cv::imwrite(tmp, RenderMesh(fused.mesh, view))) ThrowInputError(path, "cannot write image");
+      fs::rename(tmp, path);
+      pictures.push_back(path);
+    }
+  }
   const FusionTimings& t = fused.timings;
   if (args.json) {
     json report = ToJson(t, fused.mesh);
     report["options"] = ToJson(args.fusion);
     report["peak_memory_bytes"] = PeakResidentBytes();
+    report["frames"] = t.frames_fused;
     std::printf("%s\n", report.dump(2).c_str());
   } else {
     std::printf("wrote %s: %zu vertices, %zu triangles\n", out.string().c_str(), fused.mesh.positions.size(),
                 fused.mesh.faces.size());
+    for (const fs::path& p : pictures) std::printf("wrote %s\n", p.string().c_str());
     std::printf("%d frames fused in %.1f s (%.1f ms per frame, mesh %.1f s), %d blocks, %.0f MiB of voxels\n",
                 t.frames_fused, t.wall, 1000.0 * t.integrate / std::max(t.frames_fused, 1), t.mesh, t.blocks,
                 t.volume_bytes / 1048576.0);
@@ -58,6 +82,8 @@ Subcommand AddFuseCommand(CLI::App* app) {
                   "a TUM pose belongs to the frame within this many seconds")
       ->capture_default_str();
   AddFusionOptions(cmd, &args->fusion);
+  cmd->add_flag("--pictures", args->pictures,
+                "also draw the mesh from above and in perspective: <mesh>_top.png, <mesh>_view.png");
   cmd->add_flag("--json", args->json, "print the timings and sizes as JSON");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress output");
   return {cmd, [args] {
