@@ -36,7 +36,7 @@ int RunSimulate(const SimulateArgs& args) {
 int RunDemo(const DemoArgs& args) {
   Timer timer;
   const fs::path root = args.output;
-  std::printf("fine2coarse demo: simulating an apartment scan, registering it, evaluating it\n");
+  std::printf("fine2coarse demo: simulating an apartment scan, registering it, fusing a mesh, evaluating it\n");
   SimulateArgs sim_args;
   sim_args.output = (root / "scan").string();
   sim_args.scene = "apartment";
@@ -55,7 +55,7 @@ int RunDemo(const DemoArgs& args) {
   std::printf("\nrefined fine-to-coarse:\n");
   eval.estimate = (fs::path(reg.output) / "trajectory.txt").string();
   RunEvaluate(eval);
-  std::printf("\nscan (TUM layout, ground truth): %s\nposes (TUM, .log, .conf), run.json: %s\n"
+  std::printf("\nscan (TUM layout, ground truth): %s\nposes (TUM, .log, .conf), mesh.ply, run.json: %s\n"
               "demo took %.1f s\n",
               sim_args.output.c_str(), reg.output.c_str(), timer.Seconds());
   return 0;

@@ -52,7 +52,7 @@ for seq in tum_fr1_xyz_15hz 7scenes_redkitchen_15hz; do
   for mode in default off; do
     out="$work/$seq-$mode"
     args=(); [ "$mode" = off ] && args=(--keyframes off)
-    "$bin" register "$data/$seq" -o "$out" -q --no-cache "${k[@]}" "${args[@]}" > "$out.log" 2>&1
+    "$bin" register "$data/$seq" -o "$out" -q --no-cache --no-mesh "${k[@]}" "${args[@]}" > "$out.log" 2>&1
     evaluate "$out/trajectory.txt" "$data/$seq" "$out/eval.json"
     evaluate "$out/trajectory_t0.txt" "$data/$seq" "$out/eval_t0.json"
     echo "real $seq 0 $mode $out" >> "$results"

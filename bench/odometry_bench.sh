@@ -12,7 +12,7 @@ printf '|---|---|---|---|---|---|---|---|---|---|---|---|---|\n'
 for seq in tum_fr1_xyz_15hz 7scenes_redkitchen_15hz; do
   [ -d "$data/$seq" ] || { echo "skip $seq: $data/$seq absent" >&2; continue; }
   k=(); [ -f "$data/$seq/rgb.txt" ] && k=(--intrinsics tum-fr1)
-  "$bin" register "$data/$seq" -o "$tmp/$seq" "${k[@]}" --no-cache -q >/dev/null
+  "$bin" register "$data/$seq" -o "$tmp/$seq" "${k[@]}" --no-cache --no-mesh -q >/dev/null
   "$bin" evaluate --json --estimate "$tmp/$seq/trajectory.txt" --ground-truth "$data/$seq" > "$tmp/$seq/eval.json"
   /usr/bin/python3 - "$seq" "$tmp/$seq" <<'PY'
 import json, sys

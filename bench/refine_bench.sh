@@ -37,7 +37,7 @@ row=0
 run() {  # name dataset_dir out_dir extra...; keeps the row's run.json and evaluations
   local name="$1" dir="$2" out="$3"
   shift 3
-  "$bin" register "$dir" -o "$out" -q "$@" > "$out.log" 2>&1
+  "$bin" register "$dir" -o "$out" -q --no-mesh "$@" > "$out.log" 2>&1
   row=$((row + 1))
   local keep="$work/rows/$row"
   mkdir -p "$keep"
@@ -55,7 +55,7 @@ for seq in tum_fr1_xyz_15hz 7scenes_redkitchen_15hz; do
   out="$work/real-$seq"
   rm -rf "$out"
   run "end-to-end" "$data/$seq" "$out" "${extra[@]}"
-  "$bin" register "$data/$seq" -o "$out" -q "${extra[@]}" > /dev/null 2>&1  # warm-up: keyframes cached
+  "$bin" register "$data/$seq" -o "$out" -q --no-mesh "${extra[@]}" > /dev/null 2>&1  # warm-up: keyframes cached
   for v in "${variants[@]}"; do
     IFS='|' read -r name args <<< "$v"
     # shellcheck disable=SC2086
@@ -70,7 +70,7 @@ for scene in two-rooms apartment; do
     [ -f "$sim/rgb.txt" ] || "$bin" simulate --scene "$scene" --frames 900 --seed "$seed" -o "$sim" -q > /dev/null
     # Warm-up: odometry, features and keyframes into the cache, so every row below times the
     # refinement alone.
-    "$bin" register "$sim" -o "$work/out-$scene-$seed" -q --polish-iterations 0 --extra-iterations 0 > /dev/null 2>&1
+    "$bin" register "$sim" -o "$work/out-$scene-$seed" -q --no-mesh --polish-iterations 0 --extra-iterations 0 > /dev/null 2>&1
     for v in "${variants[@]}"; do
       IFS='|' read -r name args <<< "$v"
       # shellcheck disable=SC2086
@@ -83,7 +83,7 @@ done
 big="$work/sim-apartment-5000"
 [ -f "$big/rgb.txt" ] || "$bin" simulate --scene apartment --frames 5000 --seed 0 -o "$big" -q > /dev/null
 for n in 500 1000 2000 5000; do
-  "$bin" register "$big" -o "$work/big-$n" -q --last $((n - 1)) --polish-iterations 0 --extra-iterations 0 > /dev/null 2>&1
+  "$bin" register "$big" -o "$work/big-$n" -q --no-mesh --last $((n - 1)) --polish-iterations 0 --extra-iterations 0 > /dev/null 2>&1
   run "frames $n" "$big" "$work/big-$n" --last $((n - 1))
 done
 

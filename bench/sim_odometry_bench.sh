@@ -18,7 +18,7 @@ for scene in two-rooms apartment; do
     for n in 150 300 600 "$frames"; do
       [ "$n" -le "$frames" ] || continue
       out="$tmp/$scene-$seed-$n"
-      "$bin" register "$tmp/$scene-$seed" --last $((n - 1)) -o "$out" -q --no-cache >/dev/null
+      "$bin" register "$tmp/$scene-$seed" --last $((n - 1)) -o "$out" -q --no-cache --no-mesh >/dev/null
       "$bin" evaluate --json --estimate "$out/trajectory.txt" --ground-truth "$tmp/$scene-$seed" > "$out/eval.json"
       echo "$scene $seed $n $out $tmp/$scene-$seed/groundtruth.txt" >> "$tmp/runs.txt"
     done

@@ -29,7 +29,7 @@ printf "%-34s %-18s %8s %8s %8s %8s %8s\n" dataset variant "ATE m" "corr m" "dri
 row() {  # dataset_label dataset_dir out_dir variant_name args...
   local label="$1" dir="$2" out="$3" name="$4"
   shift 4
-  "$bin" register "$dir" -o "$out" -q "$@" > "$out.log" 2>&1
+  "$bin" register "$dir" -o "$out" -q --no-mesh "$@" > "$out.log" 2>&1
   "$bin" evaluate --json --estimate "$out/trajectory.txt" --ground-truth "$dir" > "$out/eval.json"
   /usr/bin/python3 - "$out" "$label" "$name" <<'PY'
 import json, sys

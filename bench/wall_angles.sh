@@ -23,7 +23,7 @@ for scene in apartment apartment-square; do
     out="$work/out-$scene-$variant"
     mkdir -p "$out"
     [ -d "$work/out-$scene-no-structure/cache" ] && [ ! -d "$out/cache" ] && cp -r "$work/out-$scene-no-structure/cache" "$out/"
-    "$bin" register "$sim" -o "$out" -q "--$variant" > "$out.log" 2>&1
+    "$bin" register "$sim" -o "$out" -q --no-mesh "--$variant" > "$out.log" 2>&1
     if [ "$variant" = no-structure ]; then
       echo "## $scene, T0"
       "$build/bench/wall_angles" "$sim" "$out/cache/features.f2cf" "$out/trajectory_t0.txt" "${walls[@]}"

@@ -54,7 +54,7 @@ fs::path SyntheticTum(const std::string& name, int n) {
 }
 
 TEST(Cli, HelpOnEverySubcommand) {
-  for (const char* cmd : {"", "register ", "features ", "evaluate ", "info ", "simulate ", "demo "}) {
+  for (const char* cmd : {"", "register ", "features ", "fuse ", "evaluate ", "info ", "simulate ", "demo "}) {
     const Result r = RunCli(std::string(cmd) + "--help");
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.output.find("Usage"), std::string::npos) << r.output;
@@ -362,6 +362,7 @@ TEST(Cli, SimulateWritesAReadableScanAndDemoEvaluatesIt) {
   // The scan's ground-truth correspondences are evaluated too (the authors' metric).
   EXPECT_NE(demo.output.find("\ncorrespondences          m "), std::string::npos) << demo.output;
   EXPECT_TRUE(fs::exists(dir / "demo" / "registration" / "trajectory.txt"));
+  EXPECT_TRUE(fs::exists(dir / "demo" / "registration" / "mesh.ply"));
   // Correspondences name frames, so they need the dataset folder, not a trajectory file.
   const fs::path scan = dir / "demo" / "scan";
   const Result no_frames = RunCli("evaluate --estimate " + (dir / "demo" / "registration" / "trajectory.txt").string() +
