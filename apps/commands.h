@@ -68,6 +68,8 @@ struct EvaluateArgs {
   // Ground-truth correspondences (the authors' format); empty: the dataset folder's
   // correspondences.txt when there is one.
   std::string correspondences;
+  std::string mesh;           // a mesh fused with the estimate's poses, to measure
+  std::string true_surfaces;  // PLY of the true surfaces; default: the folder's scene.ply
 };
 int RunEvaluate(const EvaluateArgs& args);
 

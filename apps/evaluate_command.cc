@@ -7,6 +7,8 @@
 #include <optional>
 
 #include "apps/commands.h"
+#include "f2c/eval/mesh_error.h"
+#include "f2c/io/ply.h"
 #include "apps/common.h"
 #include "f2c/eval/correspondence_error.h"
 #include "f2c/eval/trajectory_error.h"
@@ -83,6 +85,22 @@ int RunEvaluate(const EvaluateArgs& args) {
     corr = CorrespondenceError(PosesAtFrames(est, frame_timestamps, args.max_time_difference),
                                ReadCorrespondences(correspondence_file), correspondence_file.string());
   }
+  // A mesh made with the estimate's poses, moved into the truth's frame by ATE's alignment.
+  std::optional<MeshError> mesh_error;
+  fs::path surfaces = args.true_surfaces;
+  if (!args.mesh.empty()) {
+    if (surfaces.empty()) {
+      if (!fs::is_directory(args.ground_truth) || !fs::exists(fs::path(args.ground_truth) / "scene.ply")) {
+        ThrowInputError(args.mesh, "--mesh needs the true surfaces: --true-surfaces FILE, or --ground-truth as a "
+                                   "simulated folder (with scene.ply)");
+      }
+      surfaces = fs::path(args.ground_truth) / "scene.ply";
+    }
+    PlyPoints mesh = ReadPly(args.mesh);
+    const Eigen::Affine3f gt_from_estimate = r.ate.gt_from_estimate.cast<float>();
+    for (Eigen::Vector3f& p : mesh.positions) p = gt_from_estimate * p;
+    mesh_error = EvaluateMesh(mesh, ReadPly(surfaces));
+  }
   if (args.json) {
     json j = {{"estimate", args.estimate},
               {"ground_truth", args.ground_truth},
@@ -98,6 +116,15 @@ int RunEvaluate(const EvaluateArgs& args) {
       j["correspondences"] = {{"file", correspondence_file.string()},
                               {"distance_m", StatsJson(corr->distance)},
                               {"skipped", corr->skipped}};
+    }
+    if (mesh_error) {
+      j["mesh"] = {{"file", args.mesh},
+                   {"true_surfaces", surfaces.string()},
+                   {"accuracy_m", StatsJson(mesh_error->accuracy)},
+                   {"accuracy_p90_m", mesh_error->p90},
+                   {"far_fraction", mesh_error->far_fraction},
+                   {"completeness", mesh_error->completeness},
+                   {"completeness_distance_m", MeshErrorOptions().completeness_distance}};
     }
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
@@ -116,6 +143,13 @@ int RunEvaluate(const EvaluateArgs& args) {
     PrintStatsRow("correspondences", "m", corr->distance);
     if (corr->skipped > 0) std::printf("(%d correspondences skipped: a frame without an estimated pose)\n", corr->skipped);
   }
+  if (mesh_error) {
+    PrintStatsRow("mesh to true surface", "m", mesh_error->accuracy);
+    std::printf("mesh: 90%% of vertices within %.4f m of the true surfaces (%.1f%% beyond %.2f m); completeness "
+                "%.1f%% (true surface within %.2f m of a vertex)\n",
+                mesh_error->p90, 100 * mesh_error->far_fraction, MeshErrorOptions().max_distance,
+                100 * mesh_error->completeness, MeshErrorOptions().completeness_distance);
+  }
   return 0;
 }
 
@@ -132,6 +166,12 @@ Subcommand AddEvaluateCommand(CLI::App* app) {
   cmd->add_option("--correspondences", args->correspondences,
                        "ground-truth correspondences (authors' format) to measure |T_a p_a - T_b p_b| on; "
                        "default: the dataset folder's correspondences.txt, if any");
+  cmd->add_option("--mesh", args->mesh,
+                  "also measure this mesh (made with the estimate's poses) against the true surfaces: accuracy "
+                  "(vertex to surface) and completeness");
+  cmd->add_option("--true-surfaces", args->true_surfaces,
+                  "the true surfaces as a PLY mesh in the ground truth's frame (default: the simulated folder's "
+                  "scene.ply)");
   cmd->add_option("--max-time-difference", args->max_time_difference,
                        "association window (s)")
       ->capture_default_str();

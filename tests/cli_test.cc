@@ -226,6 +226,45 @@ TEST(Cli, FuseWritesTheRoomsSurfacesAndRegisterFusesItsPoses) {
   EXPECT_FALSE(fs::exists(out / "none" / "mesh.ply"));
 }
 
+// simulate writes the true surfaces; evaluate --mesh measures a mesh against them, in the
+// ground truth's frame: a mesh from the true poses lies on them, one from poses off by 5 cm
+// does not.
+TEST(Cli, EvaluateMeshAgainstTheSimulatedSurfaces) {
+  const fs::path dir = testing::FreshTempDir("cli_mesh_eval");
+  ASSERT_EQ(RunCli("simulate --scene two-rooms --frames 20 --exact -q -o " + (dir / "scan").string()).code, 0);
+  ASSERT_TRUE(fs::exists(dir / "scan" / "scene.ply"));
+  const std::string gt = (dir / "scan" / "groundtruth.txt").string();
+  ASSERT_EQ(RunCli("fuse " + (dir / "scan").string() + " --trajectory " + gt + " -q -o " + (dir / "gt.ply").string()).code, 0);
+  const Result exact = RunCli("evaluate --json --estimate " + gt + " --ground-truth " + (dir / "scan").string() +
+                              " --mesh " + (dir / "gt.ply").string());
+  ASSERT_EQ(exact.code, 0) << exact.output;
+  const nlohmann::json e = nlohmann::json::parse(exact.output);
+  EXPECT_LT(e["mesh"]["accuracy_p90_m"].get<double>(), 0.01);
+  EXPECT_GT(e["mesh"]["completeness"].get<double>(), 0.05);  // 20 frames see part of two rooms
+
+  // Every pose 5 cm off, alternately to either side (so that ATE's alignment, which moves
+  // the mesh into the truth's frame, stays about the identity): doubled walls.
+  const Trajectory truth = ReadTumTrajectory(gt);
+  Trajectory off = truth;
+  for (size_t i = 0; i < off.size(); ++i) {
+    off.world_from_camera[i].translation() += (i % 2 ? 0.05 : -0.05) * Eigen::Vector3d::UnitX();
+  }
+  WriteTumTrajectory(dir / "off.txt", off);
+  ASSERT_EQ(RunCli("fuse " + (dir / "scan").string() + " --trajectory " + (dir / "off.txt").string() + " -q -o " +
+                   (dir / "off.ply").string()).code, 0);
+  const Result wrong = RunCli("evaluate --json --estimate " + (dir / "off.txt").string() + " --ground-truth " +
+                              (dir / "scan").string() + " --mesh " + (dir / "off.ply").string());
+  ASSERT_EQ(wrong.code, 0) << wrong.output;
+  const nlohmann::json w = nlohmann::json::parse(wrong.output);
+  EXPECT_GT(w["mesh"]["accuracy_p90_m"].get<double>(), 2 * e["mesh"]["accuracy_p90_m"].get<double>());
+  EXPECT_LT(w["mesh"]["completeness"].get<double>(), e["mesh"]["completeness"].get<double>());
+
+  // Without true surfaces: one line naming the mesh.
+  EXPECT_EQ(RunCli("evaluate --estimate " + gt + " --ground-truth " + gt + " --mesh " + (dir / "gt.ply").string()).output,
+            "error: " + (dir / "gt.ply").string() + ": --mesh needs the true surfaces: --true-surfaces FILE, or "
+            "--ground-truth as a simulated folder (with scene.ply)\n");
+}
+
 // Any run's options can be written and re-run: the same poses come back.
 TEST(Cli, WriteConfigThenConfigReproducesTheRun) {
   const fs::path dir = SyntheticTum("cli_config", 8);

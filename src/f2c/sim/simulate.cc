@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 
+#include "f2c/io/ply.h"
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
 #include "f2c/util/progress.h"
@@ -98,6 +99,19 @@ std::vector<Correspondence> SampleCorrespondences(const Scene& scene, const Rend
   return out;
 }
 
+PlyPoints SceneSurfaces(const Scene& scene) {
+  PlyPoints ply;
+  for (const Triangle& t : scene.triangles) {
+    const int32_t first = static_cast<int32_t>(ply.positions.size());
+    for (const Eigen::Vector3d* v : {&t.a, &t.b, &t.c}) {
+      ply.positions.push_back(v->cast<float>());
+      ply.normals.push_back(t.normal.cast<float>());
+    }
+    ply.faces.push_back({first, first + 1, first + 2});
+  }
+  return ply;
+}
+
 Trajectory Simulate(const fs::path& dir, const SimulateOptions& options, bool quiet) {
   options.Check();
   const Scene scene = BuildScene(options.scene, options.seed);
@@ -137,6 +151,7 @@ Trajectory Simulate(const fs::path& dir, const SimulateOptions& options, bool qu
   WriteFileAtomic(dir / "camera-intrinsics.txt",
                   fmt::format("{} 0 {}\n0 {} {}\n0 0 1\n", k.fx, k.cx, k.fy, k.cy));
   WriteTumTrajectory(dir / "groundtruth.txt", stamped);
+  WritePly(dir / "scene.ply", SceneSurfaces(scene));
   WriteCorrespondences(dir / "correspondences.txt",
                        SampleCorrespondences(scene, renderer, k, poses, options.correspondences, options.seed));
   // The lists last: a folder with rgb.txt is complete.

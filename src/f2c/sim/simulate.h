@@ -2,12 +2,14 @@
 // A simulated scan on disk, in TUM layout so every tool reads it: rgb/, depth/ (uint16,
 // metres * 5000), rgb.txt, depth.txt, groundtruth.txt, camera-intrinsics.txt, and
 // correspondences.txt, ground-truth correspondences in the authors' benchmark format
-// (io/correspondences.h).
+// (io/correspondences.h), and scene.ply, the true surfaces (the triangles it renders, in
+// the ground truth's world frame) to measure reconstructed meshes against.
 
 #include <filesystem>
 #include <string>
 
 #include "f2c/io/correspondences.h"
+#include "f2c/io/ply.h"
 #include "f2c/sim/render.h"
 #include "f2c/sim/walk.h"
 
@@ -25,6 +27,9 @@ struct SimulateOptions {
 
 // Writes the scan into `dir` (created; files written atomically). Returns the poses.
 Trajectory Simulate(const std::filesystem::path& dir, const SimulateOptions& options, bool quiet);
+
+// The scene's triangles as a PLY mesh (three vertices per triangle, with its normal).
+PlyPoints SceneSurfaces(const Scene& scene);
 
 // Ground-truth correspondences on exact geometry (no sensor noise), visible in both frames.
 std::vector<Correspondence> SampleCorrespondences(const Scene& scene, const Renderer& renderer,
