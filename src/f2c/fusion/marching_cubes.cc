@@ -40,7 +40,7 @@ int EdgeLowerCorner(int edge) {
 // outside-to-inside. A cube edge is walked one way by one of its faces and the other way by
 // the other, so each crossed edge starts one segment and ends one: the segments close
 // into loops.
-std::vector<std::array<int8_t, 3>> DeriveCase(int pattern) {
+std::vector<MarchingCubesLoop> DeriveLoops(int pattern) {
   auto inside = [&](int corner) { return (pattern >> corner & 1) != 0; };
   std::array<int, 12> next;
   next.fill(-1);
@@ -71,21 +71,32 @@ std::vector<std::array<int8_t, 3>> DeriveCase(int pattern) {
       }
     }
   }
-  std::vector<std::array<int8_t, 3>> triangles;
+  std::vector<MarchingCubesLoop> loops;
   std::array<bool, 12> done{};
   for (int start = 0; start < 12; ++start) {
     if (next[start] < 0 || done[start]) continue;
-    std::vector<int> loop;
+    MarchingCubesLoop loop;
     for (int edge = start; !done[edge]; edge = next[edge]) {
       done[edge] = true;
-      loop.push_back(edge);
+      loop.edges.push_back(static_cast<int8_t>(edge));
     }
-    // A fan, wound so that the normal points out of the inside (away from tsdf < 0).
-    for (size_t i = 1; i + 1 < loop.size(); ++i) {
-      triangles.push_back({static_cast<int8_t>(loop[0]), static_cast<int8_t>(loop[i + 1]), static_cast<int8_t>(loop[i])});
+    // A fan from one vertex draws diagonals between the loop's vertices; where three or more
+    // of them lie on one face (both segments of an ambiguous face in one loop), a diagonal
+    // can lie in that face, and the cell across it may draw the same one: an edge of four
+    // triangles. Such a loop is fanned around its centre instead.
+    for (int axis = 0; axis < 3 && !loop.centre; ++axis) {
+      for (int side = 0; side < 2 && !loop.centre; ++side) {
+        int on_face = 0;
+        for (int8_t e : loop.edges) {
+          const int lower = EdgeLowerCorner(e), upper = lower | 1 << (e / 4);
+          on_face += (lower >> axis & 1) == side && (upper >> axis & 1) == side;
+        }
+        loop.centre = on_face >= 3;
+      }
     }
+    loops.push_back(std::move(loop));
   }
-  return triangles;
+  return loops;
 }
 
 // Edge keys: the edge's lower voxel (20 bits per axis, two's complement) and its axis.
@@ -109,20 +120,35 @@ struct BlockMesh {
 
 }  // namespace
 
-const std::vector<std::array<int8_t, 3>>& MarchingCubesCase(int pattern) {
-  static const std::vector<std::vector<std::array<int8_t, 3>>> cases = [] {
-    std::vector<std::vector<std::array<int8_t, 3>>> all(256);
-    for (int p = 0; p < 256; ++p) all[p] = DeriveCase(p);
+const std::vector<MarchingCubesLoop>& MarchingCubesLoops(int pattern) {
+  static const std::vector<std::vector<MarchingCubesLoop>> loops = [] {
+    std::vector<std::vector<MarchingCubesLoop>> all(256);
+    for (int p = 0; p < 256; ++p) all[p] = DeriveLoops(p);
     return all;
   }();
-  return cases[pattern & 255];
+  return loops[pattern & 255];
+}
+
+std::vector<std::array<int8_t, 3>> MarchingCubesCase(int pattern) {
+  std::vector<std::array<int8_t, 3>> triangles;
+  for (const MarchingCubesLoop& loop : MarchingCubesLoops(pattern)) {
+    const std::vector<int8_t>& e = loop.edges;
+    const size_t n = e.size();
+    // Wound so that the normal points out of the inside (away from tsdf < 0).
+    if (loop.centre) {
+      for (size_t i = 0; i < n; ++i) triangles.push_back({kMarchingCubesCentre, e[(i + 1) % n], e[i]});
+    } else {
+      for (size_t i = 1; i + 1 < n; ++i) triangles.push_back({e[0], e[i + 1], e[i]});
+    }
+  }
+  return triangles;
 }
 
 PlyPoints ExtractMesh(const TsdfVolume& volume, const MeshOptions& options) {
   const float voxel_size = static_cast<float>(volume.options().voxel_size);
   const int n = volume.BlockCount();
   std::vector<BlockMesh> parts(n);
-  MarchingCubesCase(0);  // derive the table before the threads start
+  MarchingCubesLoops(0);  // derive the table before the threads start
   tbb::parallel_for(0, n, [&](int b) {
     BlockMesh& out = parts[b];
     const TsdfVoxel* own = volume.BlockVoxels(b);
@@ -142,25 +168,43 @@ PlyPoints ExtractMesh(const TsdfVolume& volume, const MeshOptions& options) {
           }
           if (!complete || pattern == 0 || pattern == 255) continue;
           const Eigen::Vector3i cell = origin + Eigen::Vector3i(x, y, z);
-          for (const std::array<int8_t, 3>& t : MarchingCubesCase(pattern)) {
-            std::array<uint64_t, 3> keys;
-            for (int k = 0; k < 3; ++k) {
-              const int edge = t[k], axis = edge / 4, c0 = EdgeLowerCorner(edge), c1 = c0 | 1 << axis;
-              const Eigen::Vector3i v0 = cell + CornerOffset(c0);
-              keys[k] = EdgeKey(v0, axis);
-              const float d0 = corner[c0]->tsdf, d1 = corner[c1]->tsdf;
-              const float s = d0 / (d0 - d1);  // where the distance crosses zero along the edge
-              EdgeVertex vertex;
-              vertex.key = keys[k];
-              vertex.position = v0.cast<float>() * voxel_size;
-              vertex.position[axis] += s * voxel_size;
-              for (int ch = 0; ch < 3; ++ch) {
-                vertex.rgb[ch] = static_cast<uint8_t>(
-                    std::lround((1 - s) * corner[c0]->rgb[ch] + s * corner[c1]->rgb[ch]));
-              }
-              out.vertices.push_back(vertex);
+          auto vertex_on = [&](int edge) {
+            const int axis = edge / 4, c0 = EdgeLowerCorner(edge), c1 = c0 | 1 << axis;
+            const Eigen::Vector3i v0 = cell + CornerOffset(c0);
+            const float d0 = corner[c0]->tsdf, d1 = corner[c1]->tsdf;
+            const float s = d0 / (d0 - d1);  // where the distance crosses zero along the edge
+            EdgeVertex vertex;
+            vertex.key = EdgeKey(v0, axis);
+            vertex.position = v0.cast<float>() * voxel_size;
+            vertex.position[axis] += s * voxel_size;
+            for (int ch = 0; ch < 3; ++ch) {
+              vertex.rgb[ch] = static_cast<uint8_t>(std::lround((1 - s) * corner[c0]->rgb[ch] + s * corner[c1]->rgb[ch]));
             }
-            out.triangles.push_back(keys);
+            return vertex;
+          };
+          for (const MarchingCubesLoop& loop : MarchingCubesLoops(pattern)) {
+            const size_t m = loop.edges.size();
+            std::array<EdgeVertex, 12> ring;
+            for (size_t i = 0; i < m; ++i) {
+              ring[i] = vertex_on(loop.edges[i]);
+              out.vertices.push_back(ring[i]);
+            }
+            if (loop.centre) {
+              // The loop's mean, keyed by the cell (axis slot 3: no edge uses it).
+              EdgeVertex centre;
+              centre.key = EdgeKey(cell, 3);
+              centre.position.setZero();
+              Eigen::Vector3f rgb = Eigen::Vector3f::Zero();
+              for (size_t i = 0; i < m; ++i) {
+                centre.position += ring[i].position / static_cast<float>(m);
+                rgb += Eigen::Vector3f(ring[i].rgb[0], ring[i].rgb[1], ring[i].rgb[2]) / static_cast<float>(m);
+              }
+              for (int ch = 0; ch < 3; ++ch) centre.rgb[ch] = static_cast<uint8_t>(std::lround(rgb[ch]));
+              out.vertices.push_back(centre);
+              for (size_t i = 0; i < m; ++i) out.triangles.push_back({centre.key, ring[(i + 1) % m].key, ring[i].key});
+            } else {
+              for (size_t i = 1; i + 1 < m; ++i) out.triangles.push_back({ring[0].key, ring[i + 1].key, ring[i].key});
+            }
           }
         }
       }

@@ -7,7 +7,8 @@
 // (tsdf < 0) from its outside ones, a face with two diagonal inside corners cutting each off
 // on its own. Two cells that share a face derive the same segments on it, so the surface has
 // no cracks; the segments join into closed loops, fanned into triangles whose normals point
-// to the outside (free space, towards the cameras). See docs/fusion.md.
+// to the outside (free space, towards the cameras), and every edge of the mesh has one
+// triangle on each side. See docs/fusion.md.
 
 #include <array>
 #include <cstdint>
@@ -18,10 +19,23 @@
 
 namespace f2c {
 
-// The triangles of one sign pattern (bit i set: corner i inside), as triples of cube edges.
+// The loops of one sign pattern (bit i set: corner i inside), as cube edges in order.
 // Corner i sits at offset (i & 1, i >> 1 & 1, i >> 2 & 1); edge 4 a + j runs along axis a
 // from the corner with bit a clear, j packing the other two axes' bits in increasing axis order.
-const std::vector<std::array<int8_t, 3>>& MarchingCubesCase(int pattern);
+// A loop is fanned from its first vertex, or, where three or more of its vertices lie on one
+// face of the cube (an ambiguous face whose two segments it both holds), around an extra
+// vertex at its centre: a fan's diagonal could then lie in that face, and the neighbouring
+// cell draw the same one (an edge of four triangles).
+struct MarchingCubesLoop {
+  std::vector<int8_t> edges;
+  bool centre = false;
+};
+const std::vector<MarchingCubesLoop>& MarchingCubesLoops(int pattern);
+
+// The loops' triangles, as triples of cube edges; kMarchingCubesCentre stands for a loop's
+// centre vertex.
+constexpr int8_t kMarchingCubesCentre = 12;
+std::vector<std::array<int8_t, 3>> MarchingCubesCase(int pattern);
 
 struct MeshOptions {
   // A cell is meshed only where all 8 corners were observed at least this often.
