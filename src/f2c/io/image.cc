@@ -25,8 +25,13 @@ cv::Mat Decode(const std::filesystem::path& path, int flags) {
   if (!std::filesystem::is_regular_file(path)) ThrowInputError(path, "missing frame image");
   const std::string bytes = ReadFileToString(path);
   cv::Mat image;
-  if (DecodePng(bytes, AsPngRequest(flags), &image)) return image;
-  if (flags == cv::IMREAD_COLOR && DecodeJpegBgr(bytes, &image)) return image;
+  std::string problem;
+  DecodeStatus status = DecodePng(bytes, AsPngRequest(flags), &image, &problem);
+  if (status == DecodeStatus::kNotHandled && (flags == cv::IMREAD_COLOR || flags == cv::IMREAD_GRAYSCALE)) {
+    status = DecodeJpeg(bytes, flags == cv::IMREAD_GRAYSCALE, &image, &problem);
+  }
+  if (status == DecodeStatus::kDecoded) return image;
+  if (status == DecodeStatus::kCorrupt) ThrowInputError(path, problem);
   try {
     image = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), flags);
   } catch (const cv::Exception&) {

@@ -55,7 +55,24 @@ TEST(LoadDepthMeters, CorruptAndMissingFiles) {
   Fixture f = Make("img_corrupt");
   WriteFileAtomic(f.frame.depth_path, "\x89PNG\r\n\x1a\n this is not really a png");
   EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(f.seq, f.frame); }),
+            f.frame.depth_path.string() + ": corrupt PNG: no IHDR chunk after the signature");
+  WriteFileAtomic(f.frame.depth_path, "GIF89a, not an image we read");
+  EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(f.seq, f.frame); }),
             f.frame.depth_path.string() + ": cannot decode image (corrupt or not an image)");
+  // A cut-short PNG, and a cut-short JPEG (libjpeg alone would only warn and grey the rest).
+  std::vector<uchar> png;
+  cv::imencode(".png", cv::Mat(480, 640, CV_16U, cv::Scalar(2000)), png);
+  WriteFileAtomic(f.frame.depth_path, std::string(png.begin(), png.begin() + static_cast<long>(png.size() / 2)));
+  EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(f.seq, f.frame); }),
+            f.frame.depth_path.string() + ": corrupt PNG: the IDAT chunk is cut short");
+  std::vector<uchar> jpeg;
+  cv::Mat noise(480, 640, CV_8UC3);
+  cv::randu(noise, 0, 255);
+  cv::imencode(".jpg", noise, jpeg);
+  f.frame.color_path = f.dir / "c.jpg";
+  WriteFileAtomic(f.frame.color_path, std::string(jpeg.begin(), jpeg.begin() + static_cast<long>(jpeg.size() / 2)));
+  EXPECT_EQ(testing::InputErrorMessage([&] { LoadGray(f.frame, cv::Size(640, 480)); }),
+            f.frame.color_path.string() + ": corrupt JPEG: Premature end of JPEG file");
   fs::remove(f.frame.depth_path);
   EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(f.seq, f.frame); }), f.frame.depth_path.string() + ": missing frame image");
 }

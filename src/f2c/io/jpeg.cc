@@ -2,6 +2,7 @@
 
 #include <turbojpeg.h>
 
+#include <cstdint>
 #include <cstring>
 #include <memory>
 
@@ -23,27 +24,29 @@ bool HasExif(const uint8_t* data, size_t size) {
 
 }  // namespace
 
-bool DecodeJpegBgr(std::string_view bytes, cv::Mat* out) {
+DecodeStatus DecodeJpeg(std::string_view bytes, bool grey, cv::Mat* out, std::string* problem) {
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
   const size_t size = bytes.size();
-  if (size < 4 || data[0] != 0xFF || data[1] != 0xD8 || HasExif(data, size)) return false;
+  if (size < 4 || data[0] != 0xFF || data[1] != 0xD8 || HasExif(data, size)) return DecodeStatus::kNotHandled;
   thread_local std::unique_ptr<void, int (*)(tjhandle)> handle(tjInitDecompress(), tjDestroy);
-  if (!handle) return false;
+  if (!handle) return DecodeStatus::kNotHandled;
   int width = 0, height = 0, subsampling = 0, colorspace = 0;
   if (tjDecompressHeader3(handle.get(), data, static_cast<unsigned long>(size), &width, &height, &subsampling,
                           &colorspace) != 0) {
-    return false;
+    return DecodeStatus::kNotHandled;
   }
-  if (colorspace != TJCS_YCbCr && colorspace != TJCS_RGB && colorspace != TJCS_GRAY) return false;
-  if (width <= 0 || height <= 0 || width > (1 << 15) || height > (1 << 15)) return false;
-  cv::Mat image(height, width, CV_8UC3);
-  // Any warning (a truncated or corrupt stream decodes partly) counts as failure.
+  if (colorspace != TJCS_YCbCr && colorspace != TJCS_RGB && colorspace != TJCS_GRAY) return DecodeStatus::kNotHandled;
+  // Larger than any depth camera's frame (32 megapixels): OpenCV's own limits decide.
+  if (width <= 0 || height <= 0 || int64_t{width} * height > (int64_t{1} << 25)) return DecodeStatus::kNotHandled;
+  cv::Mat image(height, width, grey ? CV_8UC1 : CV_8UC3);
+  // A warning (a cut-short or damaged stream decodes partly) counts as damage.
   if (tjDecompress2(handle.get(), data, static_cast<unsigned long>(size), image.data, width, static_cast<int>(image.step[0]),
-                    height, TJPF_BGR, TJFLAG_STOPONWARNING) != 0) {
-    return false;
+                    height, grey ? TJPF_GRAY : TJPF_BGR, TJFLAG_STOPONWARNING) != 0) {
+    if (problem) *problem = std::string("corrupt JPEG: ") + tjGetErrorStr2(handle.get());
+    return DecodeStatus::kCorrupt;
   }
   *out = std::move(image);
-  return true;
+  return DecodeStatus::kDecoded;
 }
 
 }  // namespace f2c

@@ -37,11 +37,18 @@ cv::Mat OpenCv(const std::string& jpeg) {
 
 void ExpectSameAsOpenCv(const std::string& jpeg, const std::string& what) {
   cv::Mat ours;
-  ASSERT_TRUE(DecodeJpegBgr(jpeg, &ours)) << what;
+  ASSERT_EQ(DecodeJpeg(jpeg, false, &ours), DecodeStatus::kDecoded) << what;
   const cv::Mat theirs = OpenCv(jpeg);
   ASSERT_EQ(ours.type(), theirs.type()) << what;
   ASSERT_EQ(ours.size(), theirs.size()) << what;
   EXPECT_EQ(cv::norm(ours, theirs, cv::NORM_INF), 0.0) << what;
+  // And grey, as IMREAD_GRAYSCALE.
+  cv::Mat grey;
+  ASSERT_EQ(DecodeJpeg(jpeg, true, &grey), DecodeStatus::kDecoded) << what;
+  const cv::Mat their_grey =
+      cv::imdecode(cv::Mat(1, static_cast<int>(jpeg.size()), CV_8U, const_cast<char*>(jpeg.data())), cv::IMREAD_GRAYSCALE);
+  ASSERT_EQ(grey.type(), their_grey.type()) << what;
+  EXPECT_EQ(cv::norm(grey, their_grey, cv::NORM_INF), 0.0) << what;
 }
 
 // TurboJPEG's encoder, for the chroma subsamplings OpenCV 4.6's encoder cannot choose.
@@ -58,7 +65,7 @@ std::string EncodeTurbo(const cv::Mat& bgr, int subsampling, int quality) {
   return jpeg;
 }
 
-TEST(DecodeJpegBgr, EqualsOpenCvForEverySubsamplingQualityAndGrey) {
+TEST(DecodeJpeg, EqualsOpenCvForEverySubsamplingQualityAndGrey) {
   for (int sampling : {TJSAMP_444, TJSAMP_422, TJSAMP_420, TJSAMP_411, TJSAMP_GRAY}) {
     for (int quality : {50, 95}) {
       ExpectSameAsOpenCv(EncodeTurbo(TestImage(CV_8UC3, quality + sampling), sampling, quality),
@@ -71,7 +78,7 @@ TEST(DecodeJpegBgr, EqualsOpenCvForEverySubsamplingQualityAndGrey) {
   ExpectSameAsOpenCv(Encode(TestImage(CV_8UC1, 3), {}), "grey");
 }
 
-TEST(DecodeJpegBgr, EqualsOpenCvOnRealFrames) {
+TEST(DecodeJpeg, EqualsOpenCvOnRealFrames) {
   const std::filesystem::path rgb = std::filesystem::path(F2C_SHARED_DATA_DIR) / "tum_fr1_xyz_15hz" / "rgb";
   if (!std::filesystem::is_directory(rgb)) GTEST_SKIP() << rgb << " absent";
   int n = 0;
@@ -81,16 +88,19 @@ TEST(DecodeJpegBgr, EqualsOpenCvOnRealFrames) {
   }
 }
 
-TEST(DecodeJpegBgr, StepsAsideForExifAndDamage) {
+TEST(DecodeJpeg, LeavesExifToOpenCvAndSaysWhenCutShort) {
   const std::string jpeg = Encode(TestImage(CV_8UC3, 9), {});
   cv::Mat out;
-  ASSERT_TRUE(DecodeJpegBgr(jpeg, &out));
+  ASSERT_EQ(DecodeJpeg(jpeg, false, &out), DecodeStatus::kDecoded);
   const cv::Mat decoded = out;
   // An EXIF segment (OpenCV would apply its orientation): right after SOI.
   const std::string exif = std::string("\xFF\xE1\x00\x10" "Exif\0\0", 10) + std::string(8, '\0');
-  EXPECT_FALSE(DecodeJpegBgr(jpeg.substr(0, 2) + exif + jpeg.substr(2), &out));
-  EXPECT_FALSE(DecodeJpegBgr(jpeg.substr(0, jpeg.size() / 2), &out));  // cut short
-  EXPECT_FALSE(DecodeJpegBgr("\x89PNG\r\n\x1a\n", &out));
+  EXPECT_EQ(DecodeJpeg(jpeg.substr(0, 2) + exif + jpeg.substr(2), false, &out), DecodeStatus::kNotHandled);
+  EXPECT_EQ(DecodeJpeg("\x89PNG\r\n\x1a\n", true, &out), DecodeStatus::kNotHandled);
+  // Cut short: libjpeg alone would fill the rest with grey and only warn.
+  std::string problem;
+  EXPECT_EQ(DecodeJpeg(jpeg.substr(0, jpeg.size() / 2), true, &out, &problem), DecodeStatus::kCorrupt);
+  EXPECT_EQ(problem, "corrupt JPEG: Premature end of JPEG file");
   EXPECT_EQ(out.data, decoded.data);  // untouched by the failures
 }
 

@@ -1,6 +1,10 @@
 #include "f2c/io/png.h"
 
+#include <fmt/format.h>
 #include <libdeflate.h>
+
+#include <cctype>
+#include <string>
 
 #include <cstdint>
 #include <cstdlib>
@@ -106,13 +110,28 @@ void GreyRowTo(PngRequest request, const Header& h, const uint8_t* in, uint8_t* 
   }
 }
 
+// A chunk's four-letter type for messages (printable letters, or its bytes in hex).
+std::string ChunkName(const uint8_t* type) {
+  std::string name;
+  for (int i = 0; i < 4; ++i) {
+    if (!std::isalpha(type[i])) return fmt::format("{:02x}{:02x}{:02x}{:02x}", type[0], type[1], type[2], type[3]);
+    name += static_cast<char>(type[i]);
+  }
+  return name;
+}
+
 }  // namespace
 
-bool DecodePng(std::string_view bytes, PngRequest request, cv::Mat* out) {
+DecodeStatus DecodePng(std::string_view bytes, PngRequest request, cv::Mat* out, std::string* problem) {
+  auto corrupt = [&](const std::string& what) {
+    if (problem) *problem = what;
+    return DecodeStatus::kCorrupt;
+  };
+  constexpr DecodeStatus kNotHandled = DecodeStatus::kNotHandled;
   static constexpr uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   const auto* data = reinterpret_cast<const uint8_t*>(bytes.data());
   const size_t size = bytes.size();
-  if (size < 8 || std::memcmp(data, kSignature, 8) != 0) return false;
+  if (size < 8 || std::memcmp(data, kSignature, 8) != 0) return kNotHandled;
 
   // Chunks: length, type, data, CRC over type and data. IHDR first, IEND last.
   Header h;
@@ -121,45 +140,54 @@ bool DecodePng(std::string_view bytes, PngRequest request, cv::Mat* out) {
   for (size_t pos = 8; pos + 12 <= size && !ended;) {
     const uint32_t length = BigEndian32(data + pos);
     const uint8_t* type = data + pos + 4;
-    if (length > size - pos - 12) return false;  // truncated
-    const uint8_t* body = type + 4;
-    if (libdeflate_crc32(0, type, length + 4) != BigEndian32(body + length)) return false;
     const bool first = pos == 8;
-    if (first != Is(type, "IHDR")) return false;
+    if (first != Is(type, "IHDR")) {
+      return corrupt(first ? "corrupt PNG: no IHDR chunk after the signature" : "corrupt PNG: a second IHDR chunk");
+    }
+    if (length > size - pos - 12) return corrupt(fmt::format("corrupt PNG: the {} chunk is cut short", ChunkName(type)));
+    const uint8_t* body = type + 4;
+    if (libdeflate_crc32(0, type, length + 4) != BigEndian32(body + length)) {
+      // Damage in the image's own chunks is an error; libpng skips a damaged ancillary one.
+      if ((type[0] & 0x20) == 0) return corrupt(fmt::format("corrupt PNG: bad checksum in the {} chunk", ChunkName(type)));
+      return kNotHandled;
+    }
     if (Is(type, "IHDR")) {
-      if (length != 13) return false;
+      if (length != 13) return corrupt("corrupt PNG: IHDR chunk of the wrong size");
       h.width = BigEndian32(body);
       h.height = BigEndian32(body + 4);
       h.bit_depth = body[8];
       h.color_type = body[9];
-      if (body[10] != 0 || body[11] != 0 || body[12] != 0) return false;  // compression, filter, interlace
+      if (body[10] != 0 || body[11] != 0 || body[12] != 0) return kNotHandled;  // compression, filter, interlace
     } else if (Is(type, "IDAT")) {
       stream.insert(stream.end(), body, body + length);
     } else if (Is(type, "IEND")) {
       ended = true;
     } else if (ChangesPixels(type) || (type[0] & 0x20) == 0) {
-      return false;  // a pixel-changing chunk, or a critical chunk this path does not know
+      return kNotHandled;  // a pixel-changing chunk, or a critical chunk this path does not know
     }
     pos += 12 + size_t{length};
   }
-  if (!ended || stream.empty()) return false;
+  if (!ended) return corrupt("corrupt PNG: no IEND chunk (cut short?)");
+  if (stream.empty()) return corrupt("corrupt PNG: no image data");
   const bool grey = h.color_type == 0 && (h.bit_depth == 8 || h.bit_depth == 16);
   const bool rgb = h.color_type == 2 && h.bit_depth == 8;
-  if (!grey && !rgb) return false;
-  if (h.bit_depth == 16 && request != PngRequest::kUnchanged) return false;
-  if (h.width == 0 || h.height == 0 || h.width > (1u << 15) || h.height > (1u << 15)) return false;
+  if (!grey && !rgb) return kNotHandled;
+  if (h.bit_depth == 16 && request != PngRequest::kUnchanged) return kNotHandled;
+  if (h.width == 0 || h.height == 0) return corrupt("corrupt PNG: zero width or height");
+  // Larger than any depth camera's frame (32 megapixels): OpenCV's own limits decide.
+  if (uint64_t{h.width} * h.height > (uint64_t{1} << 25)) return kNotHandled;
 
   const int bpp = (rgb ? 3 : 1) * h.bit_depth / 8;
   const size_t row_bytes = size_t{h.width} * bpp;
   const size_t raw_size = (row_bytes + 1) * h.height;
   thread_local std::unique_ptr<libdeflate_decompressor, void (*)(libdeflate_decompressor*)> inflater(
       libdeflate_alloc_decompressor(), libdeflate_free_decompressor);
-  if (!inflater) return false;
+  if (!inflater) return kNotHandled;
   std::unique_ptr<uint8_t[]> raw(new uint8_t[raw_size]);
   // Exactly raw_size bytes or it is not this image (libdeflate also checks the Adler-32).
   if (libdeflate_zlib_decompress(inflater.get(), stream.data(), stream.size(), raw.get(), raw_size, nullptr) !=
       LIBDEFLATE_SUCCESS) {
-    return false;
+    return corrupt("corrupt PNG: damaged image data");
   }
 
   int type = CV_8UC1;
@@ -173,7 +201,7 @@ bool DecodePng(std::string_view bytes, PngRequest request, cv::Mat* out) {
   const uint8_t* above = zeros.data();
   for (uint32_t y = 0; y < h.height; ++y) {
     uint8_t* row = raw.get() + y * (row_bytes + 1);
-    if (!UnfilterRow(bpp, row[0], row + 1, above, row_bytes)) return false;
+    if (!UnfilterRow(bpp, row[0], row + 1, above, row_bytes)) return corrupt(fmt::format("corrupt PNG: unknown filter type {} in row {}", row[0], y));
     if (rgb) {
       RgbRowTo(request, row + 1, image.ptr<uint8_t>(static_cast<int>(y)), h.width);
     } else {
@@ -182,7 +210,7 @@ bool DecodePng(std::string_view bytes, PngRequest request, cv::Mat* out) {
     above = row + 1;
   }
   *out = std::move(image);
-  return true;
+  return DecodeStatus::kDecoded;
 }
 
 }  // namespace f2c

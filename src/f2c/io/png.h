@@ -7,7 +7,10 @@
 // fixed-point weights), so the caller can fall back to OpenCV for everything else.
 
 #include <opencv2/core.hpp>
+#include <string>
 #include <string_view>
+
+#include "f2c/io/decode_status.h"
 
 namespace f2c {
 
@@ -17,10 +20,11 @@ namespace f2c {
 //   kUnchanged: cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR (16-bit grey stays 16-bit)
 enum class PngRequest { kGray, kBgr, kUnchanged };
 
-// Decodes `bytes` into *out. False, with *out untouched, when the bytes are not a PNG this
-// path handles (palette, alpha, interlaced, 16-bit colour, 1-4 bit grey, a transparency or
-// colour-management chunk) or are damaged (bad CRC, truncated, bad zlib stream, wrong size):
-// the caller then asks OpenCV, which decodes what it can and reports the rest.
-bool DecodePng(std::string_view bytes, PngRequest request, cv::Mat* out);
+// Decodes `bytes` into *out. kNotHandled, with *out untouched, for PNGs this path leaves to
+// OpenCV (palette, alpha, interlaced, 16-bit colour, 1-4 bit grey, a transparency or
+// colour-management chunk, over 32 megapixels, a damaged ancillary chunk, or not a PNG).
+// kCorrupt for a damaged one: cut short, a bad checksum in IHDR, IDAT or IEND, a broken
+// zlib stream, image data of the wrong size, an unknown row filter.
+DecodeStatus DecodePng(std::string_view bytes, PngRequest request, cv::Mat* out, std::string* problem = nullptr);
 
 }  // namespace f2c

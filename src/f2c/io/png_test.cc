@@ -123,7 +123,7 @@ TEST(DecodePng, RgbEqualsOpenCvForEveryFilterAndRequest) {
     const std::string png = EncodePng(TestImage(CV_8UC3, 1 + filter), filter);
     for (const Case& c : kCases) {
       cv::Mat ours;
-      ASSERT_TRUE(DecodePng(png, c.request, &ours)) << "filter " << filter;
+      ASSERT_EQ(DecodePng(png, c.request, &ours), DecodeStatus::kDecoded) << "filter " << filter;
       ExpectSame(ours, OpenCv(png, c.flags));
     }
   }
@@ -134,7 +134,7 @@ TEST(DecodePng, GreyEqualsOpenCvForEveryFilterAndRequest) {
     const std::string png = EncodePng(TestImage(CV_8UC1, 11 + filter), filter);
     for (const Case& c : kCases) {
       cv::Mat ours;
-      ASSERT_TRUE(DecodePng(png, c.request, &ours)) << "filter " << filter;
+      ASSERT_EQ(DecodePng(png, c.request, &ours), DecodeStatus::kDecoded) << "filter " << filter;
       ExpectSame(ours, OpenCv(png, c.flags));
     }
   }
@@ -145,7 +145,7 @@ TEST(DecodePng, SixteenBitDepthEqualsOpenCv) {
     const cv::Mat depth = TestImage(CV_16UC1, 21 + filter);
     const std::string png = EncodePng(depth, filter);
     cv::Mat ours;
-    ASSERT_TRUE(DecodePng(png, PngRequest::kUnchanged, &ours)) << "filter " << filter;
+    ASSERT_EQ(DecodePng(png, PngRequest::kUnchanged, &ours), DecodeStatus::kDecoded) << "filter " << filter;
     ExpectSame(ours, depth);
     ExpectSame(ours, OpenCv(png, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR));
   }
@@ -159,34 +159,50 @@ TEST(DecodePng, EqualsOpenCvOnItsOwnFiles) {
     const std::string png(buffer.begin(), buffer.end());
     for (const Case& c : kCases) {
       cv::Mat ours;
-      ASSERT_TRUE(DecodePng(png, c.request, &ours)) << "level " << level;
+      ASSERT_EQ(DecodePng(png, c.request, &ours), DecodeStatus::kDecoded) << "level " << level;
       ExpectSame(ours, OpenCv(png, c.flags));
     }
   }
 }
 
-TEST(DecodePng, StepsAsideForWhatItDoesNotHandle) {
+TEST(DecodePng, LeavesOtherKindsToOpenCv) {
   cv::Mat out;
   const cv::Mat rgb = TestImage(CV_8UC3, 5);
-  // Not this path's kinds: alpha, 16-bit colour, 16-bit asked as 8-bit, a gamma chunk.
+  // Alpha, 16-bit colour, 16-bit asked as 8-bit, a gamma chunk, a JPEG.
   std::vector<uchar> buffer;
   cv::imencode(".png", TestImage(CV_8UC4, 6), buffer);
-  EXPECT_FALSE(DecodePng(std::string(buffer.begin(), buffer.end()), PngRequest::kBgr, &out));
+  EXPECT_EQ(DecodePng(std::string(buffer.begin(), buffer.end()), PngRequest::kBgr, &out), DecodeStatus::kNotHandled);
   cv::imencode(".png", TestImage(CV_16UC3, 7), buffer);
-  EXPECT_FALSE(DecodePng(std::string(buffer.begin(), buffer.end()), PngRequest::kUnchanged, &out));
-  EXPECT_FALSE(DecodePng(EncodePng(TestImage(CV_16UC1, 8), 1), PngRequest::kGray, &out));
-  EXPECT_FALSE(DecodePng(EncodePng(rgb, 1, std::string("gAMA\0\0\xb1\x8f", 8)), PngRequest::kGray, &out));
-  // Damaged: a flipped bit in the image data (CRC), a cut file, a bad filter type, not a PNG.
+  EXPECT_EQ(DecodePng(std::string(buffer.begin(), buffer.end()), PngRequest::kUnchanged, &out), DecodeStatus::kNotHandled);
+  EXPECT_EQ(DecodePng(EncodePng(TestImage(CV_16UC1, 8), 1), PngRequest::kGray, &out), DecodeStatus::kNotHandled);
+  EXPECT_EQ(DecodePng(EncodePng(rgb, 1, std::string("gAMA\0\0\xb1\x8f", 8)), PngRequest::kGray, &out),
+            DecodeStatus::kNotHandled);
+  EXPECT_EQ(DecodePng("\xff\xd8\xff\xe0 not a png", PngRequest::kGray, &out), DecodeStatus::kNotHandled);
+  EXPECT_TRUE(out.empty());  // untouched
+}
+
+TEST(DecodePng, SaysHowADamagedFileIsDamaged) {
+  const cv::Mat rgb = TestImage(CV_8UC3, 5);
   const std::string png = EncodePng(rgb, 4);
-  ASSERT_TRUE(DecodePng(png, PngRequest::kGray, &out));
+  cv::Mat out;
+  ASSERT_EQ(DecodePng(png, PngRequest::kGray, &out), DecodeStatus::kDecoded);
   const cv::Mat decoded = out;
+  auto problem = [&](const std::string& bytes) {
+    std::string what;
+    EXPECT_EQ(DecodePng(bytes, PngRequest::kGray, &out, &what), DecodeStatus::kCorrupt);
+    return what;
+  };
   std::string flipped = png;
-  flipped[png.size() - 40] ^= 0x10;
-  EXPECT_FALSE(DecodePng(flipped, PngRequest::kGray, &out));
-  EXPECT_FALSE(DecodePng(png.substr(0, png.size() - 30), PngRequest::kGray, &out));
-  EXPECT_FALSE(DecodePng(EncodePng(rgb, 5), PngRequest::kGray, &out));
-  EXPECT_FALSE(DecodePng("\xff\xd8\xff\xe0 not a png", PngRequest::kGray, &out));
+  flipped[png.size() - 40] ^= 0x10;  // inside the second IDAT
+  EXPECT_EQ(problem(flipped), "corrupt PNG: bad checksum in the IDAT chunk");
+  EXPECT_EQ(problem(png.substr(0, png.size() - 30)), "corrupt PNG: the IDAT chunk is cut short");
+  EXPECT_EQ(problem(png.substr(0, png.size() - 12)), "corrupt PNG: no IEND chunk (cut short?)");
+  EXPECT_EQ(problem(EncodePng(rgb, 5)), "corrupt PNG: unknown filter type 5 in row 0");
   EXPECT_EQ(out.data, decoded.data);  // untouched by the failures
+  // A damaged ancillary chunk is libpng's to skip.
+  std::string text = EncodePng(rgb, 1);
+  text[text.find("Comment") + 2] ^= 1;
+  EXPECT_EQ(DecodePng(text, PngRequest::kGray, &out), DecodeStatus::kNotHandled);
 }
 
 }  // namespace
