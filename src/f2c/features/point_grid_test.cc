@@ -13,18 +13,6 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-// Depth of the plane n.x = d along each pixel's ray (z = d / (n . r), r = ((u-cx)/f, (v-cy)/f, 1)).
-cv::Mat PlaneDepth(const CameraIntrinsics& k, const Eigen::Vector3d& n, double d) {
-  cv::Mat depth(k.height, k.width, CV_32F);
-  for (int v = 0; v < k.height; ++v) {
-    for (int u = 0; u < k.width; ++u) {
-      const Eigen::Vector3d r((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
-      depth.at<float>(v, u) = static_cast<float>(d / n.dot(r));
-    }
-  }
-  return depth;
-}
-
 double AngleBetween(const Eigen::Vector3f& a, const Eigen::Vector3d& b) {
   return std::acos(std::clamp(std::abs(a.cast<double>().normalized().dot(b.normalized())), 0.0, 1.0));
 }
@@ -32,7 +20,7 @@ double AngleBetween(const Eigen::Vector3f& a, const Eigen::Vector3d& b) {
 TEST(BuildPointGrid, NormalsOfATiltedPlaneAreExactAndItsCurvatureVanishes) {
   const CameraIntrinsics k = testing::TestIntrinsics();
   const Eigen::Vector3d n = Eigen::Vector3d(0.3, -0.5, -1.0).normalized();  // towards the camera
-  const PointGrid g = BuildPointGrid(PlaneDepth(k, n, -1.6), k, PointGridOptions());
+  const PointGrid g = BuildPointGrid(testing::PlaneDepth(k, n, -1.6), k, PointGridOptions());
   EXPECT_EQ(g.width, 160);
   EXPECT_EQ(g.height, 120);
   int checked = 0;

@@ -13,18 +13,6 @@
 namespace f2c {
 namespace {
 
-// Depth of the plane {x : n . x = d} (camera frame) seen by a pinhole camera.
-cv::Mat PlaneDepth(const CameraIntrinsics& k, const Eigen::Vector3d& n, double d) {
-  cv::Mat depth(k.height, k.width, CV_32F);
-  for (int v = 0; v < k.height; ++v) {
-    for (int u = 0; u < k.width; ++u) {
-      const Eigen::Vector3d ray((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
-      depth.at<float>(v, u) = static_cast<float>(d / n.dot(ray));
-    }
-  }
-  return depth;
-}
-
 TEST(TsdfVolume, PlaneZeroCrossingOnThePlaneAndBlocksOnlyInTheBand) {
   const CameraIntrinsics k = testing::TestIntrinsics();
   // A wall 1.8 m ahead, turned 15 degrees about the vertical; the camera somewhere in the world.
@@ -35,7 +23,7 @@ TEST(TsdfVolume, PlaneZeroCrossingOnThePlaneAndBlocksOnlyInTheBand) {
   world_from_camera.translation() = Eigen::Vector3d(0.37, -1.21, 0.55);
   TsdfOptions o;
   TsdfVolume volume(o);
-  volume.Integrate(PlaneDepth(k, n_cam, d_cam), cv::Mat(), k, world_from_camera);
+  volume.Integrate(testing::PlaneDepth(k, n_cam, d_cam), cv::Mat(), k, world_from_camera);
   // The plane in the world: n_w . x = d_w.
   const Eigen::Vector3d n_w = world_from_camera.linear() * n_cam;
   const double d_w = d_cam + n_w.dot(world_from_camera.translation());

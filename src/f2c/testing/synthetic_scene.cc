@@ -141,6 +141,17 @@ double BoxSurfaceDistance(const Box& box, const Eigen::Vector3d& p) {
 
 }  // namespace
 
+cv::Mat PlaneDepth(const CameraIntrinsics& k, const Eigen::Vector3d& n, double d) {
+  cv::Mat depth(k.height, k.width, CV_32F);
+  for (int v = 0; v < k.height; ++v) {
+    for (int u = 0; u < k.width; ++u) {
+      const Eigen::Vector3d ray((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+      depth.at<float>(v, u) = static_cast<float>(d / n.dot(ray));
+    }
+  }
+  return depth;
+}
+
 double SurfaceDistance(const SyntheticScene& scene, const Eigen::Vector3d& p) {
   double d = BoxSurfaceDistance(scene.room, p);
   for (const Box& solid : scene.solids) d = std::min(d, BoxSurfaceDistance(solid, p));

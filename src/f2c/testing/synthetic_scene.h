@@ -28,6 +28,10 @@ struct RenderedFrame {
 RenderedFrame Render(const SyntheticScene& scene, const CameraIntrinsics& intrinsics,
                      const Rigid3d& world_from_camera);
 
+// Depth (CV_32F metres) of the plane {x : n . x = d} (camera frame) along each pixel's ray:
+// z = d / (n . r), r = ((u - cx) / fx, (v - cy) / fy, 1).
+cv::Mat PlaneDepth(const CameraIntrinsics& intrinsics, const Eigen::Vector3d& n, double d);
+
 // Distance (m) from p to the nearest surface of the scene: the room's walls and the solids'
 // faces (tests of reconstructed surfaces).
 double SurfaceDistance(const SyntheticScene& scene, const Eigen::Vector3d& p);
