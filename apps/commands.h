@@ -41,6 +41,7 @@ struct RegisterArgs {
   bool run_refinement = true;     // false: --stop-after odometry (T0 is the result)
   bool save_iterations = false;   // OUTDIR/iterations/iteration_NN.txt
   bool fuse_mesh = true;           // OUTDIR/mesh.ply from the final poses (--no-mesh: off)
+  bool write_report = true;        // OUTDIR/report.html (--no-report: off)
   FusionOptions fusion;
   int threads = 0;                 // worker threads (0: all cores); results do not depend on it
   bool use_cache = true;
@@ -70,6 +71,7 @@ struct EvaluateArgs {
   std::string correspondences;
   std::string mesh;           // a mesh fused with the estimate's poses, to measure
   std::string true_surfaces;  // PLY of the true surfaces; default: the folder's scene.ply
+  std::string report;         // an HTML page with the plots, when set
 };
 int RunEvaluate(const EvaluateArgs& args);
 

@@ -8,6 +8,8 @@
 
 #include "apps/commands.h"
 #include "f2c/eval/mesh_error.h"
+#include "f2c/report/report.h"
+#include "f2c/util/file.h"
 #include "f2c/io/ply.h"
 #include "apps/common.h"
 #include "f2c/eval/correspondence_error.h"
@@ -101,6 +103,29 @@ int RunEvaluate(const EvaluateArgs& args) {
     for (Eigen::Vector3f& p : mesh.positions) p = gt_from_estimate * p;
     mesh_error = EvaluateMesh(mesh, ReadPly(surfaces));
   }
+  if (!args.report.empty()) {
+    // The page for this estimate alone (register's report also shows T0 and the mesh).
+    ReportInput in;
+    in.title = "fine2coarse evaluate: " + fs::path(args.estimate).filename().string();
+    in.facts = {{"estimate", args.estimate},
+                {"ground truth", args.ground_truth},
+                {"poses associated", fmt::format("{} of {}", r.ate.translation.count, r.ate.estimated_poses)},
+                {"ATE RMSE", fmt::format("{:.4f} m", r.ate.translation.rmse)},
+                {"RPE per frame", fmt::format("{:.4f} m, {:.3f} deg", r.rpe_per_frame.translation.rmse,
+                                              r.rpe_per_frame.rotation.rmse)},
+                {"rotation drift", fmt::format("{:.3f} deg RMS over pairs >= {:g} s apart", r.drift.rotation.rmse,
+                                               r.drift.min_seconds)}};
+    if (corr) in.facts.emplace_back("correspondences", fmt::format("RMSE {:.4f} m over {}", corr->distance.rmse,
+                                                                    corr->distance.count));
+    in.ground_truth = gt;
+    in.estimates.push_back({"estimate", est, "#1f77b4"});
+    in.max_time_difference = args.max_time_difference;
+    if (!correspondence_file.empty() && !frame_timestamps.empty()) {
+      in.correspondences = ReadCorrespondences(correspondence_file);
+      in.frame_timestamps = frame_timestamps;
+    }
+    WriteFileAtomic(args.report, BuildReport(in));
+  }
   if (args.json) {
     json j = {{"estimate", args.estimate},
               {"ground_truth", args.ground_truth},
@@ -172,6 +197,9 @@ Subcommand AddEvaluateCommand(CLI::App* app) {
   cmd->add_option("--true-surfaces", args->true_surfaces,
                   "the true surfaces as a PLY mesh in the ground truth's frame (default: the simulated folder's "
                   "scene.ply)");
+  cmd->add_option("--report", args->report,
+                  "also write a page with the plots (trajectories, errors over time and frame gap, correspondence "
+                  "errors) to this HTML file");
   cmd->add_option("--max-time-difference", args->max_time_difference,
                        "association window (s)")
       ->capture_default_str();

@@ -15,6 +15,7 @@
 #include "apps/commands.h"
 #include "apps/common.h"
 #include "apps/refine_options.h"
+#include "apps/run_report.h"
 #include "f2c/features/feature_set.h"
 #include "f2c/io/conf.h"
 #include "f2c/util/error.h"
@@ -59,7 +60,7 @@ json PairStatistics(const std::vector<PairAlignment>& pairs) {
 }
 
 struct RegisterFlags {
-  bool no_icp = false, no_cache = false, no_features = false, no_mesh = false;
+  bool no_icp = false, no_cache = false, no_features = false, no_mesh = false, no_report = false;
   std::string stop_after = "refine";
 };
 
@@ -197,12 +198,14 @@ int RunRegister(const RegisterArgs& args) {
   WriteTrajectories(out, seq, result);
   WriteFileAtomic(out / "odometry.json", PairsToJson(odometry.pairs, args.refine.local).dump(1) + "\n");
   json fusion_stage = nullptr;
+  std::optional<PlyPoints> mesh;
   if (args.fuse_mesh) {
     // The final poses (T0 with --stop-after odometry) into the mesh.
     std::vector<std::optional<Rigid3d>> poses(result.world_from_camera.begin(), result.world_from_camera.end());
     const FusionResult fused = FuseTsdf(seq, poses, args.fusion, args.quiet);
     WritePly(out / "mesh.ply", fused.mesh);
     fusion_stage = ToJson(fused.timings, fused.mesh);
+    if (args.write_report) mesh = fused.mesh;
     spdlog::info("mesh: {} vertices, {} triangles from {} frames in {:.1f} s ({:.1f} ms per frame)",
                  fused.mesh.positions.size(), fused.mesh.faces.size(), fused.timings.frames_fused, fused.timings.wall,
                  1000.0 * fused.timings.wall / std::max(fused.timings.frames_fused, 1));
@@ -212,6 +215,7 @@ int RunRegister(const RegisterArgs& args) {
   json outputs = {"trajectory.txt", "trajectory.log", "trajectory.conf", "trajectory_t0.txt", "odometry.json"};
   if (args.save_iterations && index) outputs.push_back("iterations/");
   if (args.fuse_mesh) outputs.push_back("mesh.ply");
+  if (args.write_report) outputs.push_back("report.html");
   const bool features_cached = args.extract_features && args.use_cache;
   if (features_cached) outputs.push_back("cache/features.f2cf");
   if (keyframe_store && args.use_cache) outputs.push_back("cache/keyframes.f2ck");
@@ -241,8 +245,13 @@ int RunRegister(const RegisterArgs& args) {
       {"outputs", outputs},
   };
   WriteFileAtomic(out / "run.json", report.dump(2) + "\n");
-  std::printf("wrote %s (TUM; %s), trajectory.log, trajectory.conf, trajectory_t0.txt, odometry.json, run.json%s%s%s\n",
+  if (args.write_report) {
+    WriteFileAtomic(out / "report.html", RegisterReport(seq, odometry, result, index.has_value(), report,
+                                                        mesh ? &*mesh : nullptr));
+  }
+  std::printf("wrote %s (TUM; %s), trajectory.log, trajectory.conf, trajectory_t0.txt, odometry.json, run.json%s%s%s%s\n",
               (out / "trajectory.txt").string().c_str(), index ? "refined" : "T0", args.fuse_mesh ? ", mesh.ply" : "",
+              args.write_report ? ", report.html" : "",
               args.save_iterations && index ? ", iterations/" : "",
               features_cached ? (keyframe_store ? ", cache/features.f2cf, cache/keyframes.f2ck" : ", cache/features.f2cf") : "");
   std::printf("%zu frames in %.1f s (%.1f frames/s)\n", seq.frames.size(), total.Seconds(),
@@ -351,6 +360,7 @@ Subcommand AddRegisterCommand(CLI::App* app) {
   cmd->add_flag("--save-iterations", args->save_iterations, "write each refinement iteration's trajectory to OUTDIR/iterations/");
   AddFusionOptions(cmd, &args->fusion);
   cmd->add_flag("--no-mesh", flags->no_mesh, "do not fuse the frames into OUTDIR/mesh.ply");
+  cmd->add_flag("--no-report", flags->no_report, "do not write OUTDIR/report.html");
   cmd->add_flag("--no-features", flags->no_features, "skip the feature extraction, and so the refinement (T0 only)");
   cmd->add_flag("--no-icp-fallback", flags->no_icp, "never use depth-only ICP");
   cmd->add_flag("--no-cache", flags->no_cache, "ignore and do not write OUTDIR/cache");
@@ -374,6 +384,7 @@ Subcommand AddRegisterCommand(CLI::App* app) {
     args->run_refinement = flags->stop_after == "refine" && !flags->no_features;
     if (args->run_refinement) args->refine.Check();  // before minutes of odometry
     args->fuse_mesh = !flags->no_mesh && flags->stop_after != "odometry";
+    args->write_report = !flags->no_report;
     if (args->fuse_mesh) args->fusion.Check();
     args->odometry.icp_fallback = !flags->no_icp;
     args->extract_features = !flags->no_features;

@@ -98,6 +98,12 @@ TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
   for (const auto& e : fs::directory_iterator(out)) {
     EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << "left a temporary file";
   }
+  // report.html: every section, the plots inline.
+  const std::string report = ReadFileToString(out / "report.html");
+  for (const char* s : {"<h2>Run</h2>", "<h2>Trajectories</h2>", "<h2>Errors</h2>", "<h2>Mesh</h2>", ">T0</text>",
+                        ">final</text>", ">ground truth</text>"}) {
+    EXPECT_NE(report.find(s), std::string::npos) << s;
+  }
   const Trajectory t = ReadTumTrajectory(out / "trajectory.txt");
   ASSERT_EQ(t.size(), 5u);
   EXPECT_NEAR(t.world_from_camera[4].translation().x(), 0.12, 0.01);  // 4 steps of 3 cm
@@ -109,6 +115,11 @@ TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
   const Result log = RunCli("evaluate --estimate " + (out / "trajectory.log").string() + " --ground-truth " + dir.string());
   EXPECT_EQ(log.code, 0) << log.output;
   EXPECT_NE(log.output.find("5 of 5 poses associated"), std::string::npos) << log.output;
+  ASSERT_EQ(RunCli("evaluate --estimate " + (out / "trajectory.txt").string() + " --ground-truth " + dir.string() +
+                   " --report " + (out / "eval.html").string()).code, 0);
+  const std::string page = ReadFileToString(out / "eval.html");
+  EXPECT_NE(page.find("<h2>Errors</h2>"), std::string::npos);
+  EXPECT_NE(page.find(">estimate</text>"), std::string::npos);
 }
 
 // Keyframe odometry (the default) aligns most frames to a keyframe, but every input frame
@@ -402,6 +413,11 @@ TEST(Cli, SimulateWritesAReadableScanAndDemoEvaluatesIt) {
   EXPECT_NE(demo.output.find("\ncorrespondences          m "), std::string::npos) << demo.output;
   EXPECT_TRUE(fs::exists(dir / "demo" / "registration" / "trajectory.txt"));
   EXPECT_TRUE(fs::exists(dir / "demo" / "registration" / "mesh.ply"));
+  // The simulated scan's correspondences: their errors by frame distance (the paper's Fig. 9)
+  // and their histogram, in the report.
+  const std::string report = ReadFileToString(dir / "demo" / "registration" / "report.html");
+  EXPECT_NE(report.find("Fig. 9"), std::string::npos);
+  EXPECT_NE(report.find(">Correspondence errors</text>"), std::string::npos);
   // Correspondences name frames, so they need the dataset folder, not a trajectory file.
   const fs::path scan = dir / "demo" / "scan";
   const Result no_frames = RunCli("evaluate --estimate " + (dir / "demo" / "registration" / "trajectory.txt").string() +

@@ -1,0 +1,100 @@
+#include "apps/run_report.h"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+
+#include "apps/mesh_views.h"
+#include "f2c/io/correspondences.h"
+#include "f2c/report/report.h"
+#include "f2c/report/svg_plot.h"
+
+namespace f2c::app {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string InlineImage(const std::string& bytes, const std::string& mime, const std::string& alt, int width) {
+  static const char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string b64;
+  b64.reserve((bytes.size() + 2) / 3 * 4);
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const uint32_t n = static_cast<uint8_t>(bytes[i]) << 16 |
+                       (i + 1 < bytes.size() ? static_cast<uint8_t>(bytes[i + 1]) << 8 : 0) |
+                       (i + 2 < bytes.size() ? static_cast<uint8_t>(bytes[i + 2]) : 0);
+    b64 += kDigits[n >> 18 & 63];
+    b64 += kDigits[n >> 12 & 63];
+    b64 += i + 1 < bytes.size() ? kDigits[n >> 6 & 63] : '=';
+    b64 += i + 2 < bytes.size() ? kDigits[n & 63] : '=';
+  }
+  return fmt::format("<img width=\"{}\" alt=\"{}\" src=\"data:{};base64,{}\">\n", width, EscapeXml(alt), mime, b64);
+}
+
+namespace {
+
+std::string Seconds(const json& stage, const char* key = "wall_s") {
+  return stage.is_object() && stage.contains(key) ? fmt::format("{:.1f} s", stage[key].get<double>()) : "-";
+}
+
+}  // namespace
+
+std::string RegisterReport(const RgbdSequence& seq, const Odometry& odometry, const Trajectory& result, bool refined,
+                           const json& run, const PlyPoints* mesh) {
+  ReportInput in;
+  in.title = "fine2coarse: " + seq.root.filename().string();
+  const json& stages = run["stages"];
+  const json& od = run["statistics"]["odometry"];
+  const double frames = run["frames"].get<double>();
+  in.facts = {
+      {"input", run["input"].get<std::string>()},
+      {"layout", run["layout"].get<std::string>()},
+      {"frames", fmt::format("{}", seq.frames.size())},
+      {"intrinsics", fmt::format("fx {} fy {} cx {} cy {} ({})", run["intrinsics"]["fx"].get<double>(),
+                                 run["intrinsics"]["fy"].get<double>(), run["intrinsics"]["cx"].get<double>(),
+                                 run["intrinsics"]["cy"].get<double>(), run["intrinsics"]["source"].get<std::string>())},
+      {"versions", fmt::format("fine2coarse {}, OpenCV {}, Eigen {}", run["versions"]["fine2coarse"].get<std::string>(),
+                               run["versions"]["opencv"].get<std::string>(), run["versions"]["eigen"].get<std::string>())},
+      {"result", refined ? "refined fine-to-coarse" : "T0 (odometry only)"},
+      {"odometry", fmt::format("{} ({} keyframes; {} tracked, {} SIFT, {} ICP, {} motion prior)", Seconds(stages["odometry"]),
+                               od["keyframes"].get<int>(), od["track"].get<int>(), od["sift"].get<int>(),
+                               od["icp"].get<int>(), od["motion_prior"].get<int>())},
+      {"features", stages["features"].is_null() ? "-" : fmt::format("{:.1f} s of CPU", stages["features"]["extract_cpu_s"].get<double>())},
+      {"refinement", Seconds(stages["refine"])},
+      {"mesh", stages["fusion"].is_null() ? "-"
+                                          : fmt::format("{} ({} triangles)", Seconds(stages["fusion"]),
+                                                        stages["fusion"]["triangles"].get<size_t>())},
+      {"total", fmt::format("{:.1f} s, {:.1f} frames/s", run["total_wall_s"].get<double>(),
+                            frames / run["total_wall_s"].get<double>())},
+      {"peak memory", fmt::format("{:.0f} MiB", run["peak_memory_bytes"].get<double>() / 1048576.0)},
+  };
+  if (seq.ground_truth) {
+    in.ground_truth = *seq.ground_truth;
+    in.facts.emplace_back("ground truth", seq.ground_truth_source.string());
+  }
+  in.estimates.push_back({"T0", odometry.t0, "#d62728"});
+  if (refined) in.estimates.push_back({"final", result, "#1f77b4"});
+  for (const PairAlignment& p : odometry.pairs) {
+    if (p.method == AlignmentMethod::kIcp || p.method == AlignmentMethod::kMotionPrior) {
+      in.fallback_times.push_back(seq.frames[p.frame].timestamp);
+    }
+  }
+  for (const RgbdFrame& f : seq.frames) in.frame_timestamps.push_back(f.timestamp);
+  const fs::path correspondences = fs::is_directory(seq.root) ? seq.root / "correspondences.txt" : fs::path();
+  if (!correspondences.empty() && fs::exists(correspondences)) in.correspondences = ReadCorrespondences(correspondences);
+  if (mesh && !mesh->faces.empty()) {
+    // Up from the horizontal surfaces near the cameras' mean -y; ahead the first camera's view.
+    Eigen::Vector3d camera_up = Eigen::Vector3d::Zero();
+    for (const auto& p : result.world_from_camera) camera_up -= p.linear().col(1);
+    const Eigen::Vector3d up = EstimateUp(*mesh, camera_up), ahead = result.world_from_camera.front().linear().col(2);
+    std::string pictures;
+    for (const MeshView& view : {TopView(*mesh, up, ahead, 900), PerspectiveView(*mesh, up, ahead, 900, 675)}) {
+      std::vector<uchar> jpeg;
+      cv::imencode(".jpg", RenderMesh(*mesh, view), jpeg, {cv::IMWRITE_JPEG_QUALITY, 85});
+      pictures += InlineImage(std::string(jpeg.begin(), jpeg.end()), "image/jpeg", "the mesh", 640);
+    }
+    in.extra_html = "<section><h2>Mesh</h2>\n" + pictures + "</section>\n";
+  }
+  return BuildReport(in);
+}
+
+}  // namespace f2c::app

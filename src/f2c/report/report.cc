@@ -1,0 +1,303 @@
+#include "f2c/report/report.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "f2c/eval/correspondence_error.h"
+#include <optional>
+#include "f2c/eval/trajectory_error.h"
+#include "f2c/report/svg_plot.h"
+
+namespace f2c {
+
+std::vector<GapBin> BinByGap(const std::vector<std::pair<int, double>>& gap_errors) {
+  std::vector<std::vector<double>> bins;
+  for (const auto& [gap, error] : gap_errors) {
+    if (gap < 1 || !std::isfinite(error)) continue;
+    const int k = static_cast<int>(std::floor(std::log2(static_cast<double>(gap)) + 1e-12));
+    if (static_cast<int>(bins.size()) <= k) bins.resize(k + 1);
+    bins[k].push_back(error);
+  }
+  std::vector<GapBin> out;
+  for (int k = 0; k < static_cast<int>(bins.size()); ++k) {
+    std::vector<double>& v = bins[k];
+    if (v.empty()) continue;
+    std::sort(v.begin(), v.end());
+    GapBin b;
+    b.gap_lo = 1 << k, b.gap_hi = 1 << (k + 1), b.count = static_cast<int>(v.size());
+    double sum = 0;
+    for (double e : v) sum += e;
+    b.mean = sum / v.size();
+    const size_t m = v.size() / 2;
+    b.median = v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+    out.push_back(b);
+  }
+  return out;
+}
+
+std::vector<int> Histogram(const std::vector<double>& values, double max, int bins) {
+  std::vector<int> h(std::max(bins, 1), 0);
+  for (double v : values) {
+    if (!std::isfinite(v) || v < 0) continue;
+    const int i = std::min(static_cast<int>(v / max * bins), bins - 1);
+    ++h[i];
+  }
+  return h;
+}
+
+namespace {
+
+// The ground-truth pose nearest in time to t (within max_dt), if any. Stamps are sorted.
+std::optional<Rigid3d> TruthAt(const Trajectory& truth, double t, double max_dt) {
+  const auto it = std::lower_bound(truth.timestamps.begin(), truth.timestamps.end(), t);
+  std::optional<Rigid3d> best;
+  double best_dt = max_dt;
+  for (auto c : {it, it == truth.timestamps.begin() ? it : it - 1}) {
+    if (c == truth.timestamps.end()) continue;
+    const double dt = std::abs(*c - t);
+    if (dt <= best_dt) best_dt = dt, best = truth.world_from_camera[c - truth.timestamps.begin()];
+  }
+  return best;
+}
+
+double RotationDeg(const Eigen::Matrix3d& r) {
+  return Eigen::AngleAxisd(Eigen::Quaterniond(r).normalized()).angle() * 180.0 / M_PI;
+}
+
+// The principal axes of the points: a top view (first two) and a side view (first, third).
+Eigen::Matrix3d PrincipalAxes(const std::vector<Eigen::Vector3d>& points) {
+  if (points.size() < 3) return Eigen::Matrix3d::Identity();
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : points) mean += p;
+  mean /= points.size();
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : points) cov += (p - mean) * (p - mean).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  Eigen::Matrix3d axes;
+  axes.col(0) = eig.eigenvectors().col(2), axes.col(1) = eig.eigenvectors().col(1);
+  axes.col(2) = axes.col(0).cross(axes.col(1));
+  return axes;
+}
+
+std::string Section(const std::string& title, const std::string& body) {
+  return fmt::format("<section><h2>{}</h2>\n{}</section>\n", EscapeXml(title), body);
+}
+
+std::string Note(const std::string& text) { return fmt::format("<p class=\"note\">{}</p>\n", EscapeXml(text)); }
+
+}  // namespace
+
+std::string BuildReport(const ReportInput& in) {
+  std::string html = fmt::format(
+      "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{0}</title>\n"
+      "<style>body{{font-family:sans-serif;max-width:1340px;margin:2em auto;color:#222}}"
+      "table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:left}}"
+      "section{{margin:2em 0}}.plots svg{{margin:4px}}.note{{color:#666}}</style></head><body>\n<h1>{0}</h1>\n",
+      EscapeXml(in.title));
+  std::string facts = "<table>\n";
+  for (const auto& [k, v] : in.facts) facts += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", EscapeXml(k), EscapeXml(v));
+  html += Section("Run", facts + "</table>\n");
+
+  // Each estimate's poses, rigidly aligned to the truth where there is one (as for ATE), and
+  // the true pose at each of its frames (nearest stamp within max_time_difference).
+  struct Aligned {
+    const ReportTrajectory* estimate;
+    std::vector<Rigid3d> poses;                  // every pose of the estimate, aligned
+    std::vector<std::optional<Rigid3d>> truth;   // per pose: the ground truth, if associated
+  };
+  std::vector<Aligned> aligned;
+  std::vector<Eigen::Vector3d> all_points;
+  const Trajectory* frame = in.ground_truth ? &*in.ground_truth : (in.estimates.empty() ? nullptr : &in.estimates.back().trajectory);
+  if (frame) {
+    for (const auto& p : frame->world_from_camera) all_points.push_back(p.translation());
+  }
+  EvaluationOptions eval_options;
+  eval_options.max_time_difference = in.max_time_difference;
+  for (const ReportTrajectory& e : in.estimates) {
+    Aligned a{&e, {}, {}};
+    Rigid3d gt_from_estimate = Rigid3d::Identity();
+    if (in.ground_truth) {
+      try {
+        gt_from_estimate = ComputeAte(e.trajectory, *in.ground_truth, eval_options).gt_from_estimate;
+      } catch (const std::exception&) {
+        // Too few poses associate: drawn as they are.
+      }
+    }
+    for (size_t k = 0; k < e.trajectory.size(); ++k) {
+      a.poses.push_back(gt_from_estimate * e.trajectory.world_from_camera[k]);
+      a.truth.push_back(in.ground_truth && e.trajectory.has_timestamps
+                            ? TruthAt(*in.ground_truth, e.trajectory.timestamps[k], in.max_time_difference)
+                            : std::nullopt);
+    }
+    aligned.push_back(std::move(a));
+  }
+  const Eigen::Matrix3d axes = PrincipalAxes(all_points);
+  std::string maps = "<div class=\"plots\">\n";
+  for (int view = 0; view < 2; ++view) {
+    Plot p;
+    p.title = view == 0 ? "From above (principal axes 1-2)" : "From the side (principal axes 1-3)";
+    p.x.label = "m";
+    p.y.label = "m";
+    p.equal_aspect = true;
+    p.width = 640, p.height = 480;
+    auto project = [&](const Eigen::Vector3d& t, double* x, double* y) {
+      const Eigen::Vector3d c = axes.transpose() * t;
+      *x = c.x(), *y = view == 0 ? c.y() : c.z();
+    };
+    if (in.ground_truth) {
+      PlotSeries s{"ground truth", {}, {}, "#444444"};
+      for (const auto& pose : in.ground_truth->world_from_camera) {
+        double x, y;
+        project(pose.translation(), &x, &y);
+        s.x.push_back(x), s.y.push_back(y);
+      }
+      p.series.push_back(s);
+    }
+    for (const Aligned& a : aligned) {
+      PlotSeries s{a.estimate->name, {}, {}, a.estimate->color};
+      for (const Rigid3d& pose : a.poses) {
+        double x, y;
+        project(pose.translation(), &x, &y);
+        s.x.push_back(x), s.y.push_back(y);
+      }
+      p.series.push_back(s);
+    }
+    if (!in.fallback_times.empty() && !in.estimates.empty()) {
+      // Marked on the result, at its own poses (aligned like its line).
+      const Trajectory& result = in.estimates.back().trajectory;
+      const auto at = PosesAtFrames(result, in.fallback_times, in.max_time_difference);
+      EvaluationOptions o;
+      o.max_time_difference = in.max_time_difference;
+      Rigid3d align = Rigid3d::Identity();
+      if (in.ground_truth) {
+        try {
+          align = ComputeAte(result, *in.ground_truth, o).gt_from_estimate;
+        } catch (const std::exception&) {
+        }
+      }
+      PlotSeries marks{"ICP / motion prior", {}, {}, "#ff7f0e", PlotSeries::Style::kPoints, 2.5};
+      for (const auto& pose : at) {
+        if (!pose) continue;
+        double x, y;
+        project((align * *pose).translation(), &x, &y);
+        marks.x.push_back(x), marks.y.push_back(y);
+      }
+      p.series.push_back(marks);
+    }
+    maps += RenderSvg(p);
+  }
+  html += Section("Trajectories", maps + "</div>\n" +
+                                      (in.ground_truth ? Note("Each estimate rigidly aligned to the ground truth as for ATE.")
+                                                       : Note("No ground truth: the estimates as they are.")));
+
+  if (!in.ground_truth) {
+    html += Section("Errors", Note("No ground truth in this dataset: no error plots."));
+  } else {
+    const Trajectory& gt = *in.ground_truth;
+    const double t0 = gt.empty() ? 0 : gt.timestamps.front();
+    Plot translation, rotation, gaps;
+    translation.title = "Position error over time (after ATE alignment)";
+    translation.x.label = "time (s)";
+    translation.y.label = "error (m)";
+    rotation.title = "Rotation error over time";
+    rotation.x.label = "time (s)";
+    rotation.y.label = "error (deg)";
+    gaps.title = "Relative pose error against frame gap";
+    gaps.x.label = "frame gap";
+    gaps.y.label = "translation error (m), median";
+    gaps.x.log = gaps.y.log = true;
+    for (const Aligned& a : aligned) {
+      const ReportTrajectory& e = *a.estimate;
+      PlotSeries st{e.name, {}, {}, e.color}, sr{e.name, {}, {}, e.color};
+      for (size_t k = 0; k < a.poses.size(); ++k) {
+        if (!a.truth[k]) continue;
+        const double t = e.trajectory.timestamps[k] - t0;
+        st.x.push_back(t), sr.x.push_back(t);
+        st.y.push_back((a.poses[k].translation() - a.truth[k]->translation()).norm());
+        sr.y.push_back(RotationDeg(a.truth[k]->linear().transpose() * a.poses[k].linear()));
+      }
+      translation.series.push_back(st);
+      rotation.series.push_back(sr);
+      // Relative errors over gaps of 1, 2, 4, ... of the estimate's frames (both associated).
+      std::vector<std::pair<int, double>> rel;
+      const int n = static_cast<int>(a.poses.size());
+      for (int g = 1; g < n; g *= 2) {
+        for (int i = 0; i + g < n; i += std::max(1, g / 8)) {
+          if (!a.truth[i] || !a.truth[i + g]) continue;
+          const Rigid3d truth = a.truth[i]->inverse() * *a.truth[i + g];
+          const Rigid3d est = a.poses[i].inverse() * a.poses[i + g];
+          rel.emplace_back(g, (truth.translation() - est.translation()).norm());
+        }
+      }
+      PlotSeries sg{e.name, {}, {}, e.color};
+      for (const GapBin& b : BinByGap(rel)) sg.x.push_back(b.gap_lo), sg.y.push_back(b.median);
+      gaps.series.push_back(sg);
+    }
+    html += Section("Errors", "<div class=\"plots\">\n" + RenderSvg(translation) + RenderSvg(rotation) +
+                                  RenderSvg(gaps) + "</div>\n");
+  }
+
+  // The paper's Fig. 9 and the histogram, from ground-truth correspondences.
+  if (in.correspondences.empty() || in.frame_timestamps.empty()) {
+    html += Section("Correspondence errors", Note("No ground-truth correspondences in this dataset."));
+  } else {
+    Plot fig9, hist;
+    fig9.title = "Correspondence error against frame distance (the paper's Fig. 9)";
+    fig9.x.label = "frame distance |a - b| (bins of powers of two)";
+    fig9.y.label = "|T_a p_a - T_b p_b| (m), median";
+    fig9.x.log = fig9.y.log = true;
+    hist.title = "Correspondence errors";
+    hist.x.label = "|T_a p_a - T_b p_b| (m)";
+    hist.y.label = "correspondences";
+    std::vector<std::vector<double>> errors;
+    double top = 0;
+    std::string table = "<table><tr><th>estimate</th><th>correspondences</th><th>RMSE (m)</th><th>median (m)</th></tr>\n";
+    for (const ReportTrajectory& e : in.estimates) {
+      const auto poses = PosesAtFrames(e.trajectory, in.frame_timestamps, in.max_time_difference);
+      std::vector<std::pair<int, double>> by_gap;
+      std::vector<double> all;
+      for (const Correspondence& c : in.correspondences) {
+        if (c.frame_a < 0 || c.frame_b < 0 || c.frame_a >= static_cast<int>(poses.size()) ||
+            c.frame_b >= static_cast<int>(poses.size()) || !poses[c.frame_a] || !poses[c.frame_b]) {
+          continue;
+        }
+        const double d = (*poses[c.frame_a] * c.point_in_a - *poses[c.frame_b] * c.point_in_b).norm();
+        by_gap.emplace_back(std::abs(c.frame_b - c.frame_a), d);
+        all.push_back(d);
+      }
+      PlotSeries s{e.name, {}, {}, e.color, PlotSeries::Style::kLine, 2};
+      for (const GapBin& b : BinByGap(by_gap)) s.x.push_back(b.gap_lo), s.y.push_back(b.median);
+      fig9.series.push_back(s);
+      const ErrorStatistics st = ComputeStatistics(all);
+      table += fmt::format("<tr><td>{}</td><td>{}</td><td>{:.4f}</td><td>{:.4f}</td></tr>\n", EscapeXml(e.name), st.count,
+                           st.rmse, st.median);
+      std::vector<double> sorted = all;
+      std::sort(sorted.begin(), sorted.end());
+      if (!sorted.empty()) top = std::max(top, sorted[std::min(sorted.size() - 1, sorted.size() * 98 / 100)]);
+      errors.push_back(std::move(all));
+    }
+    const int bins = 30;
+    top = top > 0 ? top : 1.0;
+    for (size_t i = 0; i < errors.size(); ++i) {
+      const std::vector<int> h = Histogram(errors[i], top, bins);
+      PlotSeries s{in.estimates[i].name, {}, {}, in.estimates[i].color, PlotSeries::Style::kLine, 2};
+      for (int b = 0; b < bins; ++b) s.x.push_back((b + 0.5) * top / bins), s.y.push_back(h[b]);
+      hist.series.push_back(s);
+    }
+    html += Section("Correspondence errors", table + "</table>\n<div class=\"plots\">\n" + RenderSvg(fig9) +
+                                                 RenderSvg(hist) + "</div>\n" +
+                                                 Note(fmt::format("Histogram: {} bins up to the 98th percentile; larger "
+                                                                  "errors are counted in the last bin.",
+                                                                  bins)));
+  }
+  html += in.extra_html;
+  html += "</body></html>\n";
+  return html;
+}
+
+}  // namespace f2c

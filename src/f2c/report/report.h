@@ -1,0 +1,53 @@
+#pragma once
+// report.html: one self-contained page per run (no scripts, no network), with the run's facts
+// and inline SVG plots (svg_plot.h): the trajectories from above and from the side, aligned
+// as for ATE; translation and rotation error over time; error against frame distance (the
+// paper's Fig. 9), from ground-truth correspondences where the dataset has them, else from
+// relative pose errors; and the histogram of correspondence errors.
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "f2c/io/correspondences.h"
+#include "f2c/io/trajectory.h"
+
+namespace f2c {
+
+struct ReportTrajectory {
+  std::string name;   // "T0", "final", ...
+  Trajectory trajectory;
+  std::string color;  // SVG colour
+};
+
+struct ReportInput {
+  std::string title;
+  std::vector<std::pair<std::string, std::string>> facts;  // shown as a two-column table
+  std::optional<Trajectory> ground_truth;
+  std::vector<ReportTrajectory> estimates;  // the last is the result; fallbacks are marked on it
+  std::vector<double> fallback_times;       // frames aligned by ICP or the motion prior (time stamps)
+  // Ground-truth correspondences and the time stamp of each frame they name.
+  std::vector<Correspondence> correspondences;
+  std::vector<double> frame_timestamps;
+  double max_time_difference = 0.02;        // association of estimates with frames / ground truth
+  std::string extra_html;                   // appended as is (pictures, further tables)
+};
+
+// The whole page (UTF-8). Sections without their data (no ground truth, no correspondences)
+// are left out, with a line saying why.
+std::string BuildReport(const ReportInput& input);
+
+// Errors grouped by frame gap in powers of two: bin k holds gaps in [2^k, 2^(k+1)). Empty bins
+// are left out; the median of an even count is the mean of the middle two.
+struct GapBin {
+  int gap_lo = 0, gap_hi = 0;  // [lo, hi)
+  int count = 0;
+  double mean = 0, median = 0;
+};
+std::vector<GapBin> BinByGap(const std::vector<std::pair<int, double>>& gap_errors);
+
+// A histogram of `values` over [0, max) in `bins` equal bins (values beyond go to the last).
+std::vector<int> Histogram(const std::vector<double>& values, double max, int bins);
+
+}  // namespace f2c

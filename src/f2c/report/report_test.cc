@@ -1,0 +1,89 @@
+#include "f2c/report/report.h"
+
+#include <gtest/gtest.h>
+#include <tinyxml2.h>
+
+#include <Eigen/Geometry>
+
+namespace f2c {
+namespace {
+
+TEST(BinByGap, PowersOfTwoWithEvenAndOddMedians) {
+  // Gaps 1 | 2, 3 | 4..7 | 8..15: errors chosen so that each median is easy to check.
+  const std::vector<std::pair<int, double>> e = {{1, 0.1}, {1, 0.3}, {2, 0.5}, {3, 0.2}, {3, 0.9},
+                                                 {4, 1.0}, {7, 3.0}, {5, 2.0}, {6, 8.0}, {9, 4.0}};
+  const std::vector<GapBin> b = BinByGap(e);
+  ASSERT_EQ(b.size(), 4u);
+  EXPECT_EQ(b[0].gap_lo, 1);
+  EXPECT_EQ(b[0].gap_hi, 2);
+  EXPECT_DOUBLE_EQ(b[0].median, 0.2);  // even: (0.1 + 0.3) / 2
+  EXPECT_EQ(b[1].count, 3);
+  EXPECT_DOUBLE_EQ(b[1].median, 0.5);  // odd: 0.2, 0.5, 0.9
+  EXPECT_NEAR(b[1].mean, 1.6 / 3, 1e-12);
+  EXPECT_DOUBLE_EQ(b[2].median, 2.5);  // 1, 2, 3, 8
+  EXPECT_EQ(b[3].gap_lo, 8);
+  EXPECT_DOUBLE_EQ(b[3].median, 4.0);
+  EXPECT_TRUE(BinByGap({}).empty());
+}
+
+TEST(Histogram, EqualBinsAndOverflowInTheLast) {
+  EXPECT_EQ(Histogram({0.0, 0.05, 0.1, 0.19, 0.2, 0.5, -1.0}, 0.2, 2), (std::vector<int>{2, 4}));
+}
+
+Trajectory Walk(int n, double noise_per_frame) {
+  Trajectory t;
+  for (int i = 0; i < n; ++i) {
+    Rigid3d p = Rigid3d::Identity();
+    p.linear() = Eigen::AngleAxisd(0.05 * i, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    p.translation() = Eigen::Vector3d(0.1 * i, 0.02 * std::sin(i) + noise_per_frame * i * i, 0.05 * i);
+    t.Add(1.0 + i / 30.0, p);
+  }
+  return t;
+}
+
+TEST(BuildReport, EverySectionWithPlotsThatParse) {
+  ReportInput in;
+  in.title = "test <run>";
+  in.facts = {{"frames", "20"}, {"layout", "tum"}};
+  in.ground_truth = Walk(20, 0);
+  in.estimates = {{"T0", Walk(20, 0.001), "#d62728"}, {"final", Walk(20, 0.0001), "#2ca02c"}};
+  in.fallback_times = {1.0 + 5 / 30.0};
+  for (int i = 0; i < 20; ++i) in.frame_timestamps.push_back(1.0 + i / 30.0);
+  for (int a = 0; a < 20; a += 3) {
+    for (int b = a + 1; b < 20; b += 4) {
+      Correspondence c;
+      c.frame_a = a, c.frame_b = b;
+      const Eigen::Vector3d world(0.3 * a, 0.1 * b, 2.0);
+      c.point_in_a = in.ground_truth->world_from_camera[a].inverse() * world;
+      c.point_in_b = in.ground_truth->world_from_camera[b].inverse() * world;
+      in.correspondences.push_back(c);
+    }
+  }
+  const std::string html = BuildReport(in);
+  for (const char* s : {"<h2>Run</h2>", "<h2>Trajectories</h2>", "<h2>Errors</h2>", "<h2>Correspondence errors</h2>",
+                        "the paper&#39;s Fig. 9", "test &lt;run&gt;", ">ICP / motion prior<"}) {
+    EXPECT_NE(html.find(s), std::string::npos) << s;
+  }
+  // Every SVG is XML with drawn content.
+  int svgs = 0;
+  for (size_t at = html.find("<svg"); at != std::string::npos; at = html.find("<svg", at + 1)) {
+    const size_t end = html.find("</svg>", at) + 6;
+    const std::string svg = html.substr(at, end - at);
+    tinyxml2::XMLDocument doc;
+    EXPECT_EQ(doc.Parse(svg.c_str()), tinyxml2::XML_SUCCESS) << svg.substr(0, 200);
+    EXPECT_EQ(svg.find("no data"), std::string::npos) << svg.substr(0, 200);
+    ++svgs;
+  }
+  EXPECT_EQ(svgs, 7);  // 2 maps, 3 error plots, Fig. 9, histogram
+  EXPECT_EQ(html, BuildReport(in));  // the same bytes every time
+
+  // Without ground truth or correspondences: the maps, and lines saying what is missing.
+  ReportInput bare;
+  bare.estimates = in.estimates;
+  const std::string b = BuildReport(bare);
+  EXPECT_NE(b.find("No ground truth in this dataset"), std::string::npos);
+  EXPECT_NE(b.find("No ground-truth correspondences"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace f2c
