@@ -1,5 +1,9 @@
 #include "f2c/testing/synthetic_scene.h"
 
+#include <unistd.h>
+
+#include <cstdlib>
+
 #include <cmath>
 #include <limits>
 
@@ -124,10 +128,30 @@ std::string InputErrorMessage(const std::function<void()>& f) {
   return "no error";
 }
 
+namespace {
+
+// The folders this process made, removed when it exits.
+std::vector<std::filesystem::path>& MadeFolders() {
+  static std::vector<std::filesystem::path> folders;
+  return folders;
+}
+
+void RemoveMadeFolders() {
+  std::error_code ignored;
+  for (const auto& dir : MadeFolders()) std::filesystem::remove_all(dir, ignored);
+}
+
+}  // namespace
+
 std::filesystem::path FreshTempDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("f2c_test_" + name);
+  // Per process: two test runs at once (two checkouts, CI beside a developer's run) must not
+  // delete each other's files.
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("f2c_test_" + std::to_string(static_cast<long>(getpid())) + "_" + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  if (MadeFolders().empty()) std::atexit(RemoveMadeFolders);
+  MadeFolders().push_back(dir);
   return dir;
 }
 

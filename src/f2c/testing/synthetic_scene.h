@@ -58,7 +58,8 @@ Trajectory WriteTumSequence(const std::filesystem::path& dir, const SyntheticSce
 // The message of the InputError `f` raises, or "no error".
 std::string InputErrorMessage(const std::function<void()>& f);
 
-// A fresh empty temporary folder for a test.
+// A fresh empty temporary folder for a test, unique to this process (so that test runs side
+// by side do not collide), removed when the process exits.
 std::filesystem::path FreshTempDir(const std::string& name);
 
 }  // namespace f2c::testing
