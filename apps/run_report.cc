@@ -79,6 +79,19 @@ std::string RegisterReport(const RgbdSequence& seq, const Odometry& odometry, co
     }
   }
   for (const RgbdFrame& f : seq.frames) in.frame_timestamps.push_back(f.timestamp);
+  if (stages["refine"].is_object()) {
+    for (const json& it : stages["refine"]["iterations"]) {
+      ReportIteration r;
+      r.window_length = it["window_length"].get<double>();
+      r.windows = it["windows"].get<int>();
+      r.seconds = it["seconds"]["total"].get<double>();
+      for (const auto& [term, cost] : it["solve"]["cost_after"].items()) r.cost_after.emplace_back(term, cost.get<double>());
+      for (const auto& [type, n] : it["correspondences"]["by_type"].items()) {
+        r.correspondences_by_type.emplace_back(type, n.get<int>());
+      }
+      in.iterations.push_back(std::move(r));
+    }
+  }
   const fs::path correspondences = fs::is_directory(seq.root) ? seq.root / "correspondences.txt" : fs::path();
   if (!correspondences.empty() && fs::exists(correspondences)) in.correspondences = ReadCorrespondences(correspondences);
   if (mesh && !mesh->faces.empty()) {

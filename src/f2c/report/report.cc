@@ -90,6 +90,58 @@ std::string Section(const std::string& title, const std::string& body) {
 
 std::string Note(const std::string& text) { return fmt::format("<p class=\"note\">{}</p>\n", EscapeXml(text)); }
 
+// One series per name, over the iterations (NaN where an iteration lacks it).
+template <typename T>
+std::vector<PlotSeries> ByName(const std::vector<ReportIteration>& its,
+                               std::vector<std::pair<std::string, T>> ReportIteration::*field) {
+  static const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
+  std::vector<std::string> names;
+  for (const ReportIteration& it : its) {
+    for (const auto& [name, value] : it.*field) {
+      if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+    }
+  }
+  std::vector<PlotSeries> series;
+  for (size_t n = 0; n < names.size(); ++n) {
+    PlotSeries s{names[n], {}, {}, kColors[n % 8], PlotSeries::Style::kLine, 2};
+    for (size_t i = 0; i < its.size(); ++i) {
+      double v = std::numeric_limits<double>::quiet_NaN();
+      for (const auto& [name, value] : its[i].*field) {
+        if (name == names[n]) v = static_cast<double>(value);
+      }
+      s.x.push_back(static_cast<double>(i + 1)), s.y.push_back(v);
+    }
+    series.push_back(std::move(s));
+  }
+  return series;
+}
+
+std::string IterationPlots(const std::vector<ReportIteration>& its) {
+  Plot cost, corr, window, time;
+  cost.title = "Energy after each iteration, by term";
+  cost.x.label = corr.x.label = window.x.label = time.x.label = "iteration";
+  cost.y.label = "cost";
+  cost.y.log = true;
+  cost.series = ByName(its, &ReportIteration::cost_after);
+  corr.title = "Correspondences by type";
+  corr.y.label = "correspondences";
+  corr.series = ByName(its, &ReportIteration::correspondences_by_type);
+  window.title = "Window length";
+  window.y.label = "frames (or metres of path)";
+  window.y.log = true;
+  time.title = "Time per iteration";
+  time.y.label = "seconds";
+  PlotSeries w{"", {}, {}, "#1f77b4", PlotSeries::Style::kLine, 2}, t{"", {}, {}, "#1f77b4", PlotSeries::Style::kBars};
+  for (size_t i = 0; i < its.size(); ++i) {
+    w.x.push_back(i + 1.0), w.y.push_back(its[i].window_length);
+    t.x.push_back(i + 1.0), t.y.push_back(its[i].seconds);
+  }
+  window.series = {w};
+  time.series = {t};
+  for (Plot* p : {&cost, &corr, &window, &time}) p->width = 640, p->height = 340;
+  return "<div class=\"plots\">\n" + RenderSvg(cost) + RenderSvg(corr) + RenderSvg(window) + RenderSvg(time) + "</div>\n";
+}
+
 }  // namespace
 
 std::string BuildReport(const ReportInput& in) {
@@ -295,6 +347,7 @@ std::string BuildReport(const ReportInput& in) {
                                                                   "errors are counted in the last bin.",
                                                                   bins)));
   }
+  if (!in.iterations.empty()) html += Section("Refinement", IterationPlots(in.iterations));
   html += in.extra_html;
   html += "</body></html>\n";
   return html;

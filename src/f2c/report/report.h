@@ -3,7 +3,8 @@
 // and inline SVG plots (svg_plot.h): the trajectories from above and from the side, aligned
 // as for ATE; translation and rotation error over time; error against frame distance (the
 // paper's Fig. 9), from ground-truth correspondences where the dataset has them, else from
-// relative pose errors; and the histogram of correspondence errors.
+// relative pose errors; the histogram of correspondence errors; and, per refinement iteration,
+// each energy term's cost, the correspondences by type, the window length and the time.
 
 #include <optional>
 #include <string>
@@ -21,6 +22,15 @@ struct ReportTrajectory {
   std::string color;  // SVG colour
 };
 
+// One refinement iteration, as run.json records it.
+struct ReportIteration {
+  double window_length = 0;  // frames (or metres of path)
+  int windows = 0;
+  double seconds = 0;
+  std::vector<std::pair<std::string, double>> cost_after;         // per energy term
+  std::vector<std::pair<std::string, int>> correspondences_by_type;
+};
+
 struct ReportInput {
   std::string title;
   std::vector<std::pair<std::string, std::string>> facts;  // shown as a two-column table
@@ -31,6 +41,7 @@ struct ReportInput {
   std::vector<Correspondence> correspondences;
   std::vector<double> frame_timestamps;
   double max_time_difference = 0.02;        // association of estimates with frames / ground truth
+  std::vector<ReportIteration> iterations;  // the refinement's, if it ran
   std::string extra_html;                   // appended as is (pictures, further tables)
 };
 

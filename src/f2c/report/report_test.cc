@@ -59,8 +59,17 @@ TEST(BuildReport, EverySectionWithPlotsThatParse) {
       in.correspondences.push_back(c);
     }
   }
+  for (int i = 0; i < 4; ++i) {
+    ReportIteration it;
+    it.window_length = 8 << i, it.windows = 8 >> i, it.seconds = 0.1 * (i + 1);
+    it.cost_after = {{"E_C", 1.0 / (i + 1)}, {"E_L", 0.01}};
+    if (i > 0) it.cost_after.emplace_back("E_P", 0.5);  // a term that starts later
+    it.correspondences_by_type = {{"plane", 100 * i}, {"silhouette", 10}};
+    in.iterations.push_back(it);
+  }
   const std::string html = BuildReport(in);
   for (const char* s : {"<h2>Run</h2>", "<h2>Trajectories</h2>", "<h2>Errors</h2>", "<h2>Correspondence errors</h2>",
+                        "<h2>Refinement</h2>", ">E_P</text>", ">silhouette</text>",
                         "the paper&#39;s Fig. 9", "test &lt;run&gt;", ">ICP / motion prior<"}) {
     EXPECT_NE(html.find(s), std::string::npos) << s;
   }
@@ -74,7 +83,7 @@ TEST(BuildReport, EverySectionWithPlotsThatParse) {
     EXPECT_EQ(svg.find("no data"), std::string::npos) << svg.substr(0, 200);
     ++svgs;
   }
-  EXPECT_EQ(svgs, 7);  // 2 maps, 3 error plots, Fig. 9, histogram
+  EXPECT_EQ(svgs, 11);  // 2 maps, 3 error plots, Fig. 9, histogram, 4 per-iteration plots
   EXPECT_EQ(html, BuildReport(in));  // the same bytes every time
 
   // Without ground truth or correspondences: the maps, and lines saying what is missing.

@@ -91,6 +91,8 @@ void Range(const Plot& plot, bool x_axis, double* lo, double* hi) {
   if (!std::isfinite(*lo)) return;
   if (axis.log) {
     if (*hi == *lo) *lo /= 2, *hi *= 2;
+    const double margin = std::pow(*hi / *lo, 0.04);  // 4% of the decades shown, each side
+    *lo /= margin, *hi *= margin;
   } else {
     const double margin = *hi > *lo ? 0.04 * (*hi - *lo) : (*lo != 0 ? 0.1 * std::abs(*lo) : 1.0);
     const bool bars_from_zero = !x_axis && *lo == 0;
