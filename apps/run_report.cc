@@ -9,25 +9,22 @@
 #include "f2c/io/correspondences.h"
 #include "f2c/report/report.h"
 #include "f2c/report/svg_plot.h"
+#include "f2c/util/file.h"
 
 namespace f2c::app {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
 std::string InlineImage(const std::string& bytes, const std::string& mime, const std::string& alt, int width) {
-  static const char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string b64;
-  b64.reserve((bytes.size() + 2) / 3 * 4);
-  for (size_t i = 0; i < bytes.size(); i += 3) {
-    const uint32_t n = static_cast<uint8_t>(bytes[i]) << 16 |
-                       (i + 1 < bytes.size() ? static_cast<uint8_t>(bytes[i + 1]) << 8 : 0) |
-                       (i + 2 < bytes.size() ? static_cast<uint8_t>(bytes[i + 2]) : 0);
-    b64 += kDigits[n >> 18 & 63];
-    b64 += kDigits[n >> 12 & 63];
-    b64 += i + 1 < bytes.size() ? kDigits[n >> 6 & 63] : '=';
-    b64 += i + 2 < bytes.size() ? kDigits[n & 63] : '=';
-  }
-  return fmt::format("<img width=\"{}\" alt=\"{}\" src=\"data:{};base64,{}\">\n", width, EscapeXml(alt), mime, b64);
+  return fmt::format("<img width=\"{}\" alt=\"{}\" src=\"data:{};base64,{}\">\n", width, EscapeXml(alt), mime, Base64(bytes));
+}
+
+std::string ThreeJs() {
+  // Debian's libjs-three: the library and its orbit controls (UMD builds: they attach to THREE).
+  const fs::path dir = F2C_THREE_JS_DIR;
+  const fs::path lib = dir / "three.min.js", controls = dir / "examples" / "js" / "controls" / "OrbitControls.js";
+  if (!fs::exists(lib) || !fs::exists(controls)) return "";
+  return ReadFileToString(lib) + "\n" + ReadFileToString(controls);
 }
 
 namespace {
@@ -106,7 +103,18 @@ std::string RegisterReport(const RgbdSequence& seq, const Odometry& odometry, co
       pictures += InlineImage(std::string(jpeg.begin(), jpeg.end()), "image/jpeg", "the mesh", 640);
     }
     in.extra_html = "<section><h2>Mesh</h2>\n" + pictures + "</section>\n";
+    // The 3D view: at most 150,000 of the mesh's vertices, evenly strided.
+    const size_t stride = std::max<size_t>(1, (mesh->positions.size() + 149999) / 150000);
+    for (size_t i = 0; i < mesh->positions.size(); i += stride) {
+      in.points.push_back(mesh->positions[i]);
+      if (!mesh->colors.empty()) in.point_colors.push_back(mesh->colors[i]);
+    }
+    in.up = up.cast<float>();
+  } else {
+    in.up = -result.world_from_camera.front().linear().col(1).cast<float>();
   }
+  for (const auto& p : result.world_from_camera) in.camera_path.push_back(p.translation().cast<float>());
+  in.three_js = ThreeJs();
   return BuildReport(in);
 }
 

@@ -17,6 +17,9 @@ namespace f2c::app {
 std::string RegisterReport(const RgbdSequence& seq, const Odometry& odometry, const Trajectory& result, bool refined,
                            const nlohmann::json& run, const PlyPoints* mesh);
 
+// Debian's three.js and its orbit controls, to inline; empty when libjs-three is absent.
+std::string ThreeJs();
+
 // A picture as an <img> with its PNG/JPEG bytes inline (base64), so the page stays one file.
 std::string InlineImage(const std::string& encoded_bytes, const std::string& mime, const std::string& alt, int width);
 

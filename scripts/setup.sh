@@ -10,6 +10,7 @@ packages=(
   libeigen3-dev libceres-dev libopencv-dev libnanoflann-dev libopenblas0-pthread
   libdeflate-dev libturbojpeg0-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev libtinyxml2-dev
+  libjs-three chromium
 )
 
 missing=()

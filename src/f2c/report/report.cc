@@ -142,7 +142,83 @@ std::string IterationPlots(const std::vector<ReportIteration>& its) {
   return "<div class=\"plots\">\n" + RenderSvg(cost) + RenderSvg(corr) + RenderSvg(window) + RenderSvg(time) + "</div>\n";
 }
 
+template <typename T>
+std::string Bytes(const std::vector<T>& v) {
+  return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+// A canvas drawn by three.js: the points (coloured), the camera path (red), orbit and zoom
+// with the mouse. Without JavaScript the rest of the page still shows.
+std::string View3d(const ReportInput& in) {
+  if (in.three_js.empty()) return Note("three.js is not installed (Debian's libjs-three): no 3D view.");
+  if (in.points.empty() && in.camera_path.empty()) return Note("Nothing to show in 3D (no mesh, no path).");
+  std::vector<float> points, path;
+  for (const Eigen::Vector3f& p : in.points) points.insert(points.end(), p.data(), p.data() + 3);
+  for (const Eigen::Vector3f& p : in.camera_path) path.insert(path.end(), p.data(), p.data() + 3);
+  std::vector<uint8_t> colors;
+  for (size_t i = 0; i < in.points.size(); ++i) {
+    const std::array<uint8_t, 3> c = i < in.point_colors.size() ? in.point_colors[i] : std::array<uint8_t, 3>{90, 90, 90};
+    colors.insert(colors.end(), c.begin(), c.end());
+  }
+  return fmt::format(R"(<canvas id="view3d" width="1000" height="640" style="border:1px solid #ccc"></canvas>
+<p class="note">{} points and the camera path (red); drag to orbit, scroll to zoom, right-drag to pan.</p>
+<script>{}</script>
+<script>
+(function () {{
+  function decode(s) {{ const b = atob(s), u = new Uint8Array(b.length); for (let i = 0; i < b.length; ++i) u[i] = b.charCodeAt(i); return u.buffer; }}
+  const points = new Float32Array(decode("{}")), colors = new Uint8Array(decode("{}")), path = new Float32Array(decode("{}"));
+  const canvas = document.getElementById("view3d");
+  const renderer = new THREE.WebGLRenderer({{canvas: canvas, antialias: true, preserveDrawingBuffer: true}});
+  renderer.setClearColor(0xffffff);
+  const scene = new THREE.Scene();
+  const cloud = new THREE.BufferGeometry();
+  cloud.setAttribute("position", new THREE.BufferAttribute(points, 3));
+  cloud.setAttribute("color", new THREE.BufferAttribute(colors, 3, true));
+  const line = new THREE.BufferGeometry();
+  line.setAttribute("position", new THREE.BufferAttribute(path, 3));
+  const all = new THREE.BufferGeometry();
+  all.setAttribute("position", new THREE.BufferAttribute(points.length ? points : path, 3));
+  all.computeBoundingSphere();
+  const sphere = all.boundingSphere, r = Math.max(sphere.radius, 0.1);
+  scene.add(new THREE.Points(cloud, new THREE.PointsMaterial({{size: r / 250, vertexColors: true}})));
+  scene.add(new THREE.Line(line, new THREE.LineBasicMaterial({{color: 0xd62728}})));
+  const camera = new THREE.PerspectiveCamera(55, canvas.width / canvas.height, r / 200, r * 20);
+  const up = new THREE.Vector3({}, {}, {}).normalize();
+  camera.up.copy(up);
+  const side = new THREE.Vector3(1, 0, 0);
+  if (Math.abs(side.dot(up)) > 0.9) side.set(0, 1, 0);
+  side.sub(up.clone().multiplyScalar(side.dot(up))).normalize();
+  camera.position.copy(sphere.center).add(side.multiplyScalar(1.6 * r)).add(up.clone().multiplyScalar(1.1 * r));
+  const controls = new THREE.OrbitControls(camera, canvas);
+  controls.target.copy(sphere.center);
+  controls.update();
+  const draw = function () {{ renderer.render(scene, camera); }};
+  controls.addEventListener("change", draw);
+  draw();
+}})();
+</script>
+)",
+                     in.points.size(), in.three_js, Base64(Bytes(points)), Base64(Bytes(colors)), Base64(Bytes(path)),
+                     in.up.x(), in.up.y(), in.up.z());
+}
+
 }  // namespace
+
+std::string Base64(const std::string& bytes) {
+  static const char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const uint32_t n = static_cast<uint32_t>(static_cast<uint8_t>(bytes[i])) << 16 |
+                       (i + 1 < bytes.size() ? static_cast<uint32_t>(static_cast<uint8_t>(bytes[i + 1])) << 8 : 0) |
+                       (i + 2 < bytes.size() ? static_cast<uint32_t>(static_cast<uint8_t>(bytes[i + 2])) : 0);
+    out += kDigits[n >> 18 & 63];
+    out += kDigits[n >> 12 & 63];
+    out += i + 1 < bytes.size() ? kDigits[n >> 6 & 63] : '=';
+    out += i + 2 < bytes.size() ? kDigits[n & 63] : '=';
+  }
+  return out;
+}
 
 std::string BuildReport(const ReportInput& in) {
   std::string html = fmt::format(
@@ -348,6 +424,7 @@ std::string BuildReport(const ReportInput& in) {
                                                                   bins)));
   }
   if (!in.iterations.empty()) html += Section("Refinement", IterationPlots(in.iterations));
+  html += Section("3D view", View3d(in));
   html += in.extra_html;
   html += "</body></html>\n";
   return html;

@@ -6,6 +6,9 @@
 // relative pose errors; the histogram of correspondence errors; and, per refinement iteration,
 // each energy term's cost, the correspondences by type, the window length and the time.
 
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -42,6 +45,14 @@ struct ReportInput {
   std::vector<double> frame_timestamps;
   double max_time_difference = 0.02;        // association of estimates with frames / ground truth
   std::vector<ReportIteration> iterations;  // the refinement's, if it ran
+  // The 3D view (three.js, inlined: the page stays one file that works offline): points with
+  // colours (e.g. the mesh's vertices, subsampled), the camera path, and which way is up.
+  // Left out, with a line saying why, when `three_js` (the library's source) is empty.
+  std::string three_js;
+  std::vector<Eigen::Vector3f> points;
+  std::vector<std::array<uint8_t, 3>> point_colors;
+  std::vector<Eigen::Vector3f> camera_path;
+  Eigen::Vector3f up = Eigen::Vector3f::UnitZ();
   std::string extra_html;                   // appended as is (pictures, further tables)
 };
 
@@ -57,6 +68,9 @@ struct GapBin {
   double mean = 0, median = 0;
 };
 std::vector<GapBin> BinByGap(const std::vector<std::pair<int, double>>& gap_errors);
+
+// Bytes as base64 (RFC 4648), for data inlined in the page.
+std::string Base64(const std::string& bytes);
 
 // A histogram of `values` over [0, max) in `bins` equal bins (values beyond go to the last).
 std::vector<int> Histogram(const std::vector<double>& values, double max, int bins);
