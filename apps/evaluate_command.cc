@@ -101,7 +101,9 @@ int RunEvaluate(const EvaluateArgs& args) {
     PlyPoints mesh = ReadPly(args.mesh);
     const Eigen::Affine3f gt_from_estimate = r.ate.gt_from_estimate.cast<float>();
     for (Eigen::Vector3f& p : mesh.positions) p = gt_from_estimate * p;
-    mesh_error = EvaluateMesh(mesh, ReadPly(surfaces));
+    const PlyPoints truth = ReadPly(surfaces);
+    if (truth.faces.empty()) ThrowInputError(surfaces, "has no triangles: the true surfaces must be a PLY mesh");
+    mesh_error = EvaluateMesh(mesh, truth);
   }
   if (!args.report.empty()) {
     // The page for this estimate alone (register's report also shows T0 and the mesh).

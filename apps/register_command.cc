@@ -202,13 +202,13 @@ int RunRegister(const RegisterArgs& args) {
   if (args.fuse_mesh) {
     // The final poses (T0 with --stop-after odometry) into the mesh.
     std::vector<std::optional<Rigid3d>> poses(result.world_from_camera.begin(), result.world_from_camera.end());
-    const FusionResult fused = FuseTsdf(seq, poses, args.fusion, args.quiet);
+    FusionResult fused = FuseTsdf(seq, poses, args.fusion, args.quiet);
     WritePly(out / "mesh.ply", fused.mesh);
     fusion_stage = ToJson(fused.timings, fused.mesh);
-    if (args.write_report) mesh = fused.mesh;
     spdlog::info("mesh: {} vertices, {} triangles from {} frames in {:.1f} s ({:.1f} ms per frame)",
                  fused.mesh.positions.size(), fused.mesh.faces.size(), fused.timings.frames_fused, fused.timings.wall,
                  1000.0 * fused.timings.wall / std::max(fused.timings.frames_fused, 1));
+    if (args.write_report) mesh = std::move(fused.mesh);  // for its pictures and 3D view
   }
 
   const CameraIntrinsics& k = *seq.intrinsics;

@@ -270,6 +270,13 @@ TEST(Cli, EvaluateMeshAgainstTheSimulatedSurfaces) {
   EXPECT_GT(w["mesh"]["accuracy_p90_m"].get<double>(), 2 * e["mesh"]["accuracy_p90_m"].get<double>());
   EXPECT_LT(w["mesh"]["completeness"].get<double>(), e["mesh"]["completeness"].get<double>());
 
+  // True surfaces without triangles (a point set): one line naming that file.
+  PlyPoints points;
+  points.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  WritePly(dir / "points.ply", points);
+  EXPECT_EQ(RunCli("evaluate --estimate " + gt + " --ground-truth " + gt + " --mesh " + (dir / "gt.ply").string() +
+                   " --true-surfaces " + (dir / "points.ply").string()).output,
+            "error: " + (dir / "points.ply").string() + ": has no triangles: the true surfaces must be a PLY mesh\n");
   // Without true surfaces: one line naming the mesh.
   EXPECT_EQ(RunCli("evaluate --estimate " + gt + " --ground-truth " + gt + " --mesh " + (dir / "gt.ply").string()).output,
             "error: " + (dir / "gt.ply").string() + ": --mesh needs the true surfaces: --true-surfaces FILE, or "

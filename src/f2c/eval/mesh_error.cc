@@ -8,6 +8,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "f2c/geometry/coord_table.h"
 #include "f2c/util/error.h"
 
 namespace f2c {
@@ -58,7 +59,7 @@ class TriangleGrid {
       const Eigen::Vector3i a = Cell(lo.array() - reach), b = Cell(hi.array() + reach);
       for (int z = a.z(); z <= b.z(); ++z) {
         for (int y = a.y(); y <= b.y(); ++y) {
-          for (int x = a.x(); x <= b.x(); ++x) cells_[Key({x, y, z})].push_back(t);
+          for (int x = a.x(); x <= b.x(); ++x) cells_[PackCoords({x, y, z})].push_back(t);
         }
       }
     }
@@ -66,7 +67,7 @@ class TriangleGrid {
 
   // Distance to the nearest triangle listed in p's cell; `fallback` when none is.
   double Distance(const Eigen::Vector3d& p, double fallback) const {
-    const auto it = cells_.find(Key(Cell(p)));
+    const auto it = cells_.find(PackCoords(Cell(p)));
     if (it == cells_.end()) return fallback;
     double best = fallback;
     for (int t : it->second) {
@@ -80,11 +81,6 @@ class TriangleGrid {
 
  private:
   Eigen::Vector3i Cell(const Eigen::Vector3d& p) const { return (p / cell_).array().floor().cast<int>(); }
-  static uint64_t Key(const Eigen::Vector3i& c) {
-    return (static_cast<uint64_t>(static_cast<uint32_t>(c.x()) & 0x1FFFFF) << 42) |
-           (static_cast<uint64_t>(static_cast<uint32_t>(c.y()) & 0x1FFFFF) << 21) |
-           static_cast<uint64_t>(static_cast<uint32_t>(c.z()) & 0x1FFFFF);
-  }
   const PlyPoints& truth_;
   double cell_;
   std::unordered_map<uint64_t, std::vector<int>> cells_;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "f2c/geometry/coord_table.h"
 #include "f2c/util/error.h"
 
 namespace f2c {
@@ -51,44 +52,6 @@ struct Candidate {
   int32_t proxy;
 };
 
-// A hash table from 63-bit voxel keys to candidate indices (-1: none yet), with linear
-// probing in a power-of-two array at most half full.
-class VoxelTable {
- public:
-  explicit VoxelTable(size_t capacity) {
-    size_t size = 16;
-    shift_ = 60;
-    while (size < 2 * capacity) size *= 2, --shift_;
-    keys_.assign(size, kEmpty);
-    values_.assign(size, -1);
-  }
-  int& At(uint64_t key) {
-    const size_t i = Slot(key);
-    keys_[i] = key;
-    return values_[i];
-  }
-  int Find(uint64_t key) const { return values_[Slot(key)]; }  // -1 when absent
-  std::vector<int> Values() const {
-    std::vector<int> out;
-    for (size_t i = 0; i < keys_.size(); ++i) {
-      if (keys_[i] != kEmpty) out.push_back(values_[i]);
-    }
-    return out;
-  }
-
- private:
-  static constexpr uint64_t kEmpty = ~uint64_t{0};  // keys use 63 bits
-  size_t Slot(uint64_t key) const {
-    const size_t mask = keys_.size() - 1;
-    size_t i = (key * 0x9E3779B97F4A7C15ULL) >> shift_;  // the product's top bits: Fibonacci hashing
-    while (keys_[i] != kEmpty && keys_[i] != key) i = (i + 1) & mask;
-    return i;
-  }
-  int shift_;
-  std::vector<uint64_t> keys_;
-  std::vector<int> values_;
-};
-
 // Well-spaced selection in two passes, both on a hash grid of `spacing`-sized voxels:
 // first the most salient candidate of each voxel (ties: grid order), then those
 // representatives in order of salience, each kept unless one already kept lies within
@@ -104,42 +67,36 @@ std::vector<Candidate> SelectSpaced(const std::vector<Candidate>& candidates, do
     return Eigen::Vector3i(static_cast<int>(std::floor(p.x() / spacing)), static_cast<int>(std::floor(p.y() / spacing)),
                            static_cast<int>(std::floor(p.z() / spacing)));
   };
-  auto key = [](const Eigen::Vector3i& v) {
-    return (static_cast<uint64_t>(static_cast<uint32_t>(v.x()) & 0x1FFFFF) << 42) |
-           (static_cast<uint64_t>(static_cast<uint32_t>(v.y()) & 0x1FFFFF) << 21) |
-           (static_cast<uint64_t>(static_cast<uint32_t>(v.z()) & 0x1FFFFF));
-  };
-  // Voxel -> candidate index, in an open-addressing table (a node-based map's allocations
-  // and pointer chasing were most of this function's time).
-  VoxelTable best(candidates.size());
+  // Voxel -> candidate index.
+  CoordTable best(candidates.size());
   for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
-    int& slot = best.At(key(voxel(candidates[i].position)));
+    int& slot = best.At(PackCoords(voxel(candidates[i].position)));
     if (slot < 0 || candidates[i].salience > candidates[slot].salience) slot = i;
   }
   std::vector<int> order = best.Values();
   std::sort(order.begin(), order.end(), [&](int a, int b) {
     return candidates[a].salience != candidates[b].salience ? candidates[a].salience > candidates[b].salience : a < b;
   });
-  VoxelTable kept_at(order.size());  // voxel -> kept candidate (at most one per voxel)
+  CoordTable kept_at(order.size());  // voxel -> kept candidate (at most one per voxel)
   std::vector<Candidate> kept;
   const float s2 = static_cast<float>(spacing * spacing);
   for (int i : order) {
     const Candidate& c = candidates[i];
     const Eigen::Vector3i v = voxel(c.position);
     // Its own voxel first: where a kept neighbour is most often found.
-    int k = kept_at.Find(key(v));
+    int k = kept_at.Find(PackCoords(v));
     bool near = k >= 0 && (candidates[k].position - c.position).squaredNorm() < s2;
     for (int dx = -1; dx <= 1 && !near; ++dx) {
       for (int dy = -1; dy <= 1 && !near; ++dy) {
         for (int dz = -1; dz <= 1 && !near; ++dz) {
           if (dx == 0 && dy == 0 && dz == 0) continue;
-          k = kept_at.Find(key(v + Eigen::Vector3i(dx, dy, dz)));
+          k = kept_at.Find(PackCoords(v + Eigen::Vector3i(dx, dy, dz)));
           near = k >= 0 && (candidates[k].position - c.position).squaredNorm() < s2;
         }
       }
     }
     if (near) continue;
-    kept_at.At(key(v)) = i;
+    kept_at.At(PackCoords(v)) = i;
     kept.push_back(c);
   }
   return kept;

@@ -21,59 +21,30 @@ void TsdfOptions::Check() const {
   }
 }
 
-uint64_t PackCoords(const Eigen::Vector3i& c) {
-  return (static_cast<uint64_t>(static_cast<uint32_t>(c.x()) & 0x1FFFFF) << 42) |
-         (static_cast<uint64_t>(static_cast<uint32_t>(c.y()) & 0x1FFFFF) << 21) |
-         (static_cast<uint64_t>(static_cast<uint32_t>(c.z()) & 0x1FFFFF));
-}
-
 namespace {
 
-constexpr uint64_t kEmpty = ~uint64_t{0};
-
-size_t Slot(const std::vector<uint64_t>& keys, uint64_t key) {
-  const size_t mask = keys.size() - 1;
-  size_t i = (key * 0x9E3779B97F4A7C15ULL) >> 40 & mask;  // Fibonacci hashing
-  while (keys[i] != kEmpty && keys[i] != key) i = (i + 1) & mask;
-  return i;
-}
+constexpr uint64_t kEmpty = ~uint64_t{0};  // never a packed key (63 bits)
 
 int FloorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
 }  // namespace
 
-TsdfVolume::TsdfVolume(const TsdfOptions& options) : options_(options) {
-  options_.Check();
-  keys_.assign(1 << 12, kEmpty);
-  values_.assign(keys_.size(), -1);
-}
+TsdfVolume::TsdfVolume(const TsdfOptions& options) : options_(options), index_(1 << 11) { options_.Check(); }
 
 size_t TsdfVolume::MemoryBytes() const {
-  return blocks_.size() * sizeof(blocks_[0]) + coords_.capacity() * sizeof(coords_[0]) +
-         keys_.size() * (sizeof(uint64_t) + sizeof(int));
+  return blocks_.size() * sizeof(blocks_[0]) + coords_.capacity() * sizeof(coords_[0]) + index_.MemoryBytes();
 }
 
-int TsdfVolume::FindBlock(const Eigen::Vector3i& block) const { return values_[Slot(keys_, PackCoords(block))]; }
+int TsdfVolume::FindBlock(const Eigen::Vector3i& block) const { return index_.Find(PackCoords(block)); }
 
 int TsdfVolume::AddBlock(const Eigen::Vector3i& block) {
-  if (2 * (coords_.size() + 1) > keys_.size()) {  // keep the table at most half full
-    std::vector<uint64_t> keys(2 * keys_.size(), kEmpty);
-    std::vector<int> values(keys.size(), -1);
-    for (size_t i = 0; i < keys_.size(); ++i) {
-      if (keys_[i] == kEmpty) continue;
-      const size_t j = Slot(keys, keys_[i]);
-      keys[j] = keys_[i], values[j] = values_[i];
-    }
-    keys_.swap(keys), values_.swap(values);
+  int& b = index_.At(PackCoords(block));
+  if (b < 0) {
+    b = static_cast<int>(coords_.size());
+    coords_.push_back(block);
+    blocks_.emplace_back();
   }
-  const uint64_t key = PackCoords(block);
-  const size_t i = Slot(keys_, key);
-  if (keys_[i] == key) return values_[i];
-  keys_[i] = key;
-  values_[i] = static_cast<int>(coords_.size());
-  coords_.push_back(block);
-  blocks_.emplace_back();
-  return values_[i];
+  return b;
 }
 
 namespace {
@@ -170,12 +141,7 @@ void TsdfVolume::Integrate(const cv::Mat& depth, const cv::Mat& bgr, const Camer
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   std::vector<int> touched;
   touched.reserve(keys.size());
-  for (uint64_t key : keys) {
-    auto unpack = [](uint64_t bits) {  // sign-extend 21 bits
-      return static_cast<int>(static_cast<int64_t>(bits << 43) >> 43);
-    };
-    touched.push_back(AddBlock(Eigen::Vector3i(unpack(key >> 42), unpack(key >> 21), unpack(key))));
-  }
+  for (uint64_t key : keys) touched.push_back(AddBlock(UnpackCoords(key)));
 
   // 2. Their voxels, in parallel (each voxel belongs to one block: no two threads write one).
   const Eigen::Matrix3f r_cw = r_wc.transpose();

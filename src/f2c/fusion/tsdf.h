@@ -17,6 +17,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "f2c/geometry/coord_table.h"
 #include "f2c/geometry/intrinsics.h"
 #include "f2c/geometry/rigid.h"
 
@@ -73,12 +74,7 @@ class TsdfVolume {
   TsdfOptions options_;
   std::deque<std::array<TsdfVoxel, kTsdfBlockVoxels>> blocks_;  // stable addresses as it grows
   std::vector<Eigen::Vector3i> coords_;
-  // Block coordinates (packed in 63 bits) -> index, open addressing with linear probing.
-  std::vector<uint64_t> keys_;
-  std::vector<int> values_;
+  CoordTable index_;  // packed block coordinates -> block number
 };
-
-// Packs block or voxel coordinates (each within +-2^20) into 63 bits.
-uint64_t PackCoords(const Eigen::Vector3i& c);
 
 }  // namespace f2c

@@ -237,6 +237,7 @@ std::string BuildReport(const ReportInput& in) {
     const ReportTrajectory* estimate;
     std::vector<Rigid3d> poses;                  // every pose of the estimate, aligned
     std::vector<std::optional<Rigid3d>> truth;   // per pose: the ground truth, if associated
+    Rigid3d gt_from_estimate = Rigid3d::Identity();
   };
   std::vector<Aligned> aligned;
   std::vector<Eigen::Vector3d> all_points;
@@ -248,7 +249,7 @@ std::string BuildReport(const ReportInput& in) {
   eval_options.max_time_difference = in.max_time_difference;
   for (const ReportTrajectory& e : in.estimates) {
     Aligned a{&e, {}, {}};
-    Rigid3d gt_from_estimate = Rigid3d::Identity();
+    Rigid3d& gt_from_estimate = a.gt_from_estimate;
     if (in.ground_truth) {
       try {
         gt_from_estimate = ComputeAte(e.trajectory, *in.ground_truth, eval_options).gt_from_estimate;
@@ -299,15 +300,7 @@ std::string BuildReport(const ReportInput& in) {
       // Marked on the result, at its own poses (aligned like its line).
       const Trajectory& result = in.estimates.back().trajectory;
       const auto at = PosesAtFrames(result, in.fallback_times, in.max_time_difference);
-      EvaluationOptions o;
-      o.max_time_difference = in.max_time_difference;
-      Rigid3d align = Rigid3d::Identity();
-      if (in.ground_truth) {
-        try {
-          align = ComputeAte(result, *in.ground_truth, o).gt_from_estimate;
-        } catch (const std::exception&) {
-        }
-      }
+      const Rigid3d& align = aligned.back().gt_from_estimate;
       PlotSeries marks{"ICP / motion prior", {}, {}, "#ff7f0e", PlotSeries::Style::kPoints, 2.5};
       for (const auto& pose : at) {
         if (!pose) continue;
