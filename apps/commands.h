@@ -72,6 +72,9 @@ struct EvaluateArgs {
   std::string mesh;           // a mesh fused with the estimate's poses, to measure
   std::string true_surfaces;  // PLY of the true surfaces; default: the folder's scene.ply
   std::string report;         // an HTML page with the plots, when set
+  std::string name = "estimate";       // the estimate's name in the report
+  std::vector<std::string> also;       // NAME=FILE: further trajectories drawn in the report
+  IoOptions io;                        // frame selection (frame ids of .log/.conf estimates) and intrinsics
 };
 int RunEvaluate(const EvaluateArgs& args);
 

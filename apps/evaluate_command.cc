@@ -7,6 +7,8 @@
 #include <optional>
 
 #include "apps/commands.h"
+#include "apps/run_report.h"
+#include "f2c/report/svg_plot.h"
 #include "f2c/eval/mesh_error.h"
 #include "f2c/report/report.h"
 #include "f2c/util/file.h"
@@ -23,18 +25,35 @@ using nlohmann::json;
 
 namespace {
 
-// Ground truth from a trajectory file or a dataset folder. `frame_timestamps` receives the
-// dataset's frame time stamps (to place estimates that carry frame ids, not stamps).
-Trajectory LoadGroundTruth(const fs::path& path, std::vector<double>* frame_timestamps) {
+// Ground truth from a trajectory file or a dataset folder (then `*dataset` holds it: its
+// frame time stamps place estimates that carry frame ids, and its frames feed the report).
+Trajectory LoadGroundTruth(const fs::path& path, IoOptions io, std::optional<RgbdSequence>* dataset) {
   if (fs::is_directory(path) || path.extension() == ".conf") {
-    IoOptions io;
     io.check_files = false;
-    const RgbdSequence seq = ReadSequence(path, io);
-    if (!seq.ground_truth) ThrowInputError(path, "dataset has no ground-truth trajectory");
-    for (const RgbdFrame& f : seq.frames) frame_timestamps->push_back(f.timestamp);
-    return *seq.ground_truth;
+    *dataset = ReadSequence(path, io);
+    if (!(*dataset)->ground_truth) ThrowInputError(path, "dataset has no ground-truth trajectory");
+    return *(*dataset)->ground_truth;
   }
   return ReadTrajectoryFile(path);
+}
+
+// A trajectory file; .log / .conf files carry frame ids, placed at the dataset's frame times.
+Trajectory LoadEstimate(const fs::path& path, const Trajectory& gt, const std::vector<double>& frame_timestamps) {
+  Trajectory est = ReadTrajectoryFile(path);
+  if (est.has_timestamps || !gt.has_timestamps) return est;
+  if (frame_timestamps.empty()) {
+    ThrowInputError(path, "has no time stamps (.log/.conf); give --ground-truth as the "
+                          "dataset folder so frame ids can be placed in time");
+  }
+  for (double& id : est.timestamps) {
+    const auto i = static_cast<long>(id);
+    if (i < 0 || i >= static_cast<long>(frame_timestamps.size())) {
+      ThrowInputError(path, fmt::format("frame id {} but the dataset has {} frames", i, frame_timestamps.size()));
+    }
+    id = frame_timestamps[i];
+  }
+  est.has_timestamps = true;
+  return est;
 }
 
 void PrintStatsRow(const char* name, const char* unit, const ErrorStatistics& s) {
@@ -50,23 +69,21 @@ json StatsJson(const ErrorStatistics& s) {
 }  // namespace
 
 int RunEvaluate(const EvaluateArgs& args) {
+  std::optional<RgbdSequence> dataset;
+  const Trajectory gt = LoadGroundTruth(args.ground_truth, args.io, &dataset);
   std::vector<double> frame_timestamps;
-  Trajectory gt = LoadGroundTruth(args.ground_truth, &frame_timestamps);
-  Trajectory est = ReadTrajectoryFile(args.estimate);
-  if (!est.has_timestamps && gt.has_timestamps) {
-    // .log / .conf estimates carry frame ids: place them at the dataset's frame times.
-    if (frame_timestamps.empty()) {
-      ThrowInputError(args.estimate, "has no time stamps (.log/.conf); give --ground-truth as the "
-                                     "dataset folder so frame ids can be placed in time");
+  if (dataset) {
+    for (const RgbdFrame& f : dataset->frames) frame_timestamps.push_back(f.timestamp);
+  }
+  const Trajectory est = LoadEstimate(args.estimate, gt, frame_timestamps);
+  // The report's further trajectories, read (and checked) before anything is measured.
+  std::vector<std::pair<std::string, Trajectory>> also;
+  for (const std::string& spec : args.also) {
+    const size_t eq = spec.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size()) {
+      ThrowInputError("--also", fmt::format("'{}' is not NAME=FILE", spec));
     }
-    for (double& id : est.timestamps) {
-      const auto i = static_cast<long>(id);
-      if (i < 0 || i >= static_cast<long>(frame_timestamps.size())) {
-        ThrowInputError(args.estimate, fmt::format("frame id {} but the dataset has {} frames", i,
-                                                   frame_timestamps.size()));
-      }
-      id = frame_timestamps[i];
-    }
+    also.emplace_back(spec.substr(0, eq), LoadEstimate(spec.substr(eq + 1), gt, frame_timestamps));
   }
   EvaluationOptions options;
   options.max_time_difference = args.max_time_difference;
@@ -120,11 +137,23 @@ int RunEvaluate(const EvaluateArgs& args) {
     if (corr) in.facts.emplace_back("correspondences", fmt::format("RMSE {:.4f} m over {}", corr->distance.rmse,
                                                                     corr->distance.count));
     in.ground_truth = gt;
-    in.estimates.push_back({"estimate", est, "#1f77b4"});
+    static const char* kColors[] = {"#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
+    for (size_t i = 0; i < also.size(); ++i) in.estimates.push_back({also[i].first, also[i].second, kColors[i % 7]});
+    in.estimates.push_back({args.name, est, "#1f77b4"});  // last: the one the page is about
     in.max_time_difference = args.max_time_difference;
     if (!correspondence_file.empty() && !frame_timestamps.empty()) {
       in.correspondences = ReadCorrespondences(correspondence_file);
       in.frame_timestamps = frame_timestamps;
+    }
+    if (dataset && dataset->intrinsics) {
+      AddSliceFrames(*dataset, 150, &in);
+    } else {
+      in.extra_html = "<section><h2>Top-down slice of the registered points</h2>\n<p class=\"note\">" +
+                      EscapeXml(dataset ? "The dataset has no intrinsics (TUM folders carry none): pass --intrinsics "
+                                          "to draw the slice."
+                                        : "--ground-truth is a trajectory file: give the dataset folder to draw "
+                                          "the slice.") +
+                      "</p></section>\n";
     }
     WriteFileAtomic(args.report, BuildReport(in));
   }
@@ -202,6 +231,11 @@ Subcommand AddEvaluateCommand(CLI::App* app) {
   cmd->add_option("--report", args->report,
                   "also write a page with the plots (trajectories, errors over time and frame gap, correspondence "
                   "errors) to this HTML file");
+  cmd->add_option("--name", args->name, "the estimate's name in the report")->capture_default_str();
+  cmd->add_option("--also", args->also,
+                  "NAME=FILE: another trajectory (T0, a peer's result) drawn beside the estimate in the report; "
+                  "repeatable");
+  AddFrameSelection(cmd, &args->io);
   cmd->add_option("--max-time-difference", args->max_time_difference,
                        "association window (s)")
       ->capture_default_str();

@@ -6,9 +6,12 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "apps/mesh_views.h"
+#include "f2c/features/point_grid.h"
+#include "f2c/io/image.h"
 #include "f2c/io/correspondences.h"
 #include "f2c/report/report.h"
 #include "f2c/report/svg_plot.h"
+#include "f2c/util/error.h"
 #include "f2c/util/file.h"
 
 namespace f2c::app {
@@ -25,6 +28,31 @@ std::string ThreeJs() {
   const fs::path lib = dir / "three.min.js", controls = dir / "examples" / "js" / "controls" / "OrbitControls.js";
   if (!fs::exists(lib) || !fs::exists(controls)) return "";
   return ReadFileToString(lib) + "\n" + ReadFileToString(controls);
+}
+
+void AddSliceFrames(const RgbdSequence& seq, int frames, ReportInput* in) {
+  const CameraIntrinsics* intrinsics = seq.intrinsics ? &*seq.intrinsics : nullptr;
+  if (!intrinsics || seq.frames.empty()) return;
+  PointGridOptions grid;
+  grid.step = 8;
+  grid.normal_radius_pixels = 16;
+  const int n = static_cast<int>(seq.frames.size()), count = std::min(n, frames);
+  for (int j = 0; j < count; ++j) {
+    const RgbdFrame& frame = seq.frames[static_cast<size_t>(j) * n / count];
+    try {
+      const PointGrid g = BuildPointGrid(LoadDepthMeters(seq, frame), *intrinsics, grid);
+      SliceFrame f;
+      for (int i = 0; i < static_cast<int>(g.points.size()); ++i) {
+        if (!g.Valid(i)) continue;
+        f.points.push_back(g.points[i]);
+        f.normals.push_back(g.normals[i]);
+      }
+      in->slice_timestamps.push_back(frame.timestamp);
+      in->slice_frames.push_back(std::move(f));
+    } catch (const InputError&) {
+      // Left out of the slice; the run itself reads every frame and says which is bad.
+    }
+  }
 }
 
 namespace {
@@ -115,6 +143,7 @@ std::string RegisterReport(const RgbdSequence& seq, const Odometry& odometry, co
   }
   for (const auto& p : result.world_from_camera) in.camera_path.push_back(p.translation().cast<float>());
   in.three_js = ThreeJs();
+  AddSliceFrames(seq, 150, &in);
   return BuildReport(in);
 }
 

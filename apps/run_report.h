@@ -10,12 +10,18 @@
 #include "f2c/io/ply.h"
 #include "f2c/io/sequence.h"
 #include "f2c/odometry/odometry.h"
+#include "f2c/report/report.h"
 
 namespace f2c::app {
 
 // `mesh` may be null (no mesh fused). `run` is run.json's content.
 std::string RegisterReport(const RgbdSequence& seq, const Odometry& odometry, const Trajectory& result, bool refined,
                            const nlohmann::json& run, const PlyPoints* mesh);
+
+// What `frames` evenly spread frames of `seq` saw, for the report's top-down slice (the
+// paper's Fig. 1): depth on an 8-pixel grid with normals, a few ms per frame. Needs the
+// sequence's intrinsics; frames whose depth cannot be read are left out.
+void AddSliceFrames(const RgbdSequence& seq, int frames, ReportInput* in);
 
 // Debian's three.js and its orbit controls, to inline; empty when libjs-three is absent.
 std::string ThreeJs();

@@ -115,11 +115,22 @@ TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
   const Result log = RunCli("evaluate --estimate " + (out / "trajectory.log").string() + " --ground-truth " + dir.string());
   EXPECT_EQ(log.code, 0) << log.output;
   EXPECT_NE(log.output.find("5 of 5 poses associated"), std::string::npos) << log.output;
-  ASSERT_EQ(RunCli("evaluate --estimate " + (out / "trajectory.txt").string() + " --ground-truth " + dir.string() +
-                   " --report " + (out / "eval.html").string()).code, 0);
+  // The page for the .log estimate (frame ids placed in time), with T0 beside it.
+  const Result page_run = RunCli("evaluate --estimate " + (out / "trajectory.log").string() + " --ground-truth " +
+                                 dir.string() + " --name final --also T0=" + (out / "trajectory_t0.txt").string() +
+                                 " --report " + (out / "eval.html").string());
+  ASSERT_EQ(page_run.code, 0) << page_run.output;
   const std::string page = ReadFileToString(out / "eval.html");
-  EXPECT_NE(page.find("<h2>Errors</h2>"), std::string::npos);
-  EXPECT_NE(page.find(">estimate</text>"), std::string::npos);
+  for (const char* s : {"<h2>Errors</h2>", "<h2>Top-down slice of the registered points</h2>", ">final</text>",
+                        ">T0</text>"}) {
+    EXPECT_NE(page.find(s), std::string::npos) << s;
+  }
+  EXPECT_EQ(page.find(">no data</text>"), std::string::npos);  // every plot drawn, the .log's errors too
+  const Result bad = RunCli("evaluate --estimate " + (out / "trajectory.txt").string() + " --ground-truth " +
+                            dir.string() + " --also T0 --report " + (out / "bad.html").string());
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_EQ(bad.output, "error: --also: 'T0' is not NAME=FILE\n");
+  EXPECT_FALSE(fs::exists(out / "bad.html"));
 }
 
 // Keyframe odometry (the default) aligns most frames to a keyframe, but every input frame

@@ -11,6 +11,7 @@
 #include "f2c/eval/correspondence_error.h"
 #include <optional>
 #include "f2c/eval/trajectory_error.h"
+#include "f2c/geometry/coord_table.h"
 #include "f2c/report/svg_plot.h"
 
 namespace f2c {
@@ -204,6 +205,85 @@ std::string View3d(const ReportInput& in) {
 
 }  // namespace
 
+// The slice from above under each set of poses, on shared axes: x along the result's slice
+// points' main direction, y across it; one dot per occupied cell of a 1/500-extent grid.
+std::string SliceSection(const ReportInput& in, const std::vector<std::pair<const ReportTrajectory*, Rigid3d>>& estimates) {
+  std::vector<std::pair<std::string, std::string>> names;  // name, colour
+  std::vector<std::vector<std::optional<Rigid3d>>> pose_sets;
+  if (in.ground_truth) {
+    std::vector<std::optional<Rigid3d>> truth;
+    for (double t : in.slice_timestamps) truth.push_back(TruthAt(*in.ground_truth, t, in.max_time_difference));
+    names.emplace_back("ground truth", "#444444");
+    pose_sets.push_back(std::move(truth));
+  }
+  for (const auto& [e, gt_from_estimate] : estimates) {
+    auto poses = PosesAtFrames(e->trajectory, in.slice_timestamps, in.max_time_difference);
+    for (auto& p : poses) {
+      if (p) p = gt_from_estimate * *p;
+    }
+    names.emplace_back(e->name, e->color);
+    pose_sets.push_back(std::move(poses));
+  }
+  const SliceBand band = ChooseSliceBand(in.slice_frames, pose_sets.back(), in.slice_options);
+  std::vector<std::vector<Eigen::Vector3d>> slices;
+  for (const auto& poses : pose_sets) slices.push_back(SlicePoints(in.slice_frames, poses, band));
+  // Horizontal axes from the result's slice.
+  Eigen::Vector3d a = band.up.unitOrthogonal(), b = band.up.cross(a);
+  if (slices.back().size() >= 3) {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const auto& p : slices.back()) mean += Eigen::Vector2d(p.dot(a), p.dot(b));
+    mean /= static_cast<double>(slices.back().size());
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (const auto& p : slices.back()) {
+      const Eigen::Vector2d d = Eigen::Vector2d(p.dot(a), p.dot(b)) - mean;
+      cov += d * d.transpose();
+    }
+    const Eigen::Vector2d major = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvectors().col(1);
+    const Eigen::Vector3d x = major.x() * a + major.y() * b;
+    a = x.normalized(), b = band.up.cross(a);
+  }
+  // Shared extent: every set's 0.5th to 99.5th percentile, so that a few far points do not
+  // shrink the drawing.
+  std::vector<double> xs, ys;
+  for (const auto& s : slices) {
+    for (const auto& p : s) xs.push_back(p.dot(a)), ys.push_back(p.dot(b));
+  }
+  if (xs.empty()) return Note("No points in the slab: nothing to draw.");
+  auto quantile = [](std::vector<double> v, double q) {
+    const size_t i = std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())));
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(i), v.end());
+    return v[i];
+  };
+  const double x0 = quantile(xs, 0.005), x1 = quantile(xs, 0.995), y0 = quantile(ys, 0.005), y1 = quantile(ys, 0.995);
+  const double cell = std::max({x1 - x0, y1 - y0, 1e-3}) / 500;
+  std::string plots = "<div class=\"plots\">\n";
+  for (size_t s = 0; s < slices.size(); ++s) {
+    Plot p;
+    p.title = names[s].first;
+    p.x.label = p.y.label = "m";
+    p.x.min = x0, p.x.max = x1, p.y.min = y0, p.y.max = y1;
+    p.equal_aspect = true;
+    p.width = 440, p.height = 440;
+    PlotSeries dots{"", {}, {}, names[s].second, PlotSeries::Style::kDots, 1.2};
+    CoordTable seen(4096);
+    for (const auto& q : slices[s]) {
+      const double x = q.dot(a), y = q.dot(b);
+      if (x < x0 || x > x1 || y < y0 || y > y1) continue;
+      int& drawn = seen.At(PackCoords({static_cast<int>(std::floor((x - x0) / cell)), static_cast<int>(std::floor((y - y0) / cell)), 0}));
+      if (drawn >= 0) continue;
+      drawn = 1;
+      dots.x.push_back(x), dots.y.push_back(y);
+    }
+    p.series.push_back(std::move(dots));
+    plots += RenderSvg(p);
+  }
+  return plots + "</div>\n" +
+         Note(fmt::format("The points of {} frames within {:.2f} m of {:.2f} m height (the layer with the most wall "
+                          "points), seen from above{}. A consistent registration draws each wall once, as a thin line.",
+                          in.slice_frames.size(), 0.5 * band.thickness, band.height,
+                          in.ground_truth ? "; each estimate aligned to the ground truth as for ATE" : ""));
+}
+
 std::string Base64(const std::string& bytes) {
   static const char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
@@ -315,6 +395,11 @@ std::string BuildReport(const ReportInput& in) {
   html += Section("Trajectories", maps + "</div>\n" +
                                       (in.ground_truth ? Note("Each estimate rigidly aligned to the ground truth as for ATE.")
                                                        : Note("No ground truth: the estimates as they are.")));
+  if (!in.slice_frames.empty() && !aligned.empty()) {
+    std::vector<std::pair<const ReportTrajectory*, Rigid3d>> estimates;
+    for (const Aligned& a : aligned) estimates.emplace_back(a.estimate, a.gt_from_estimate);
+    html += Section("Top-down slice of the registered points", SliceSection(in, estimates));
+  }
 
   if (!in.ground_truth) {
     html += Section("Errors", Note("No ground truth in this dataset: no error plots."));

@@ -1,10 +1,11 @@
 #pragma once
-// report.html: one self-contained page per run (no scripts, no network), with the run's facts
+// report.html: one self-contained page per run (works offline, no network), with the run's facts
 // and inline SVG plots (svg_plot.h): the trajectories from above and from the side, aligned
 // as for ATE; translation and rotation error over time; error against frame distance (the
 // paper's Fig. 9), from ground-truth correspondences where the dataset has them, else from
 // relative pose errors; the histogram of correspondence errors; and, per refinement iteration,
-// each energy term's cost, the correspondences by type, the window length and the time.
+// each energy term's cost, the correspondences by type, the window length and the time; a
+// top-down slice of the registered points under each set of poses (the paper's Fig. 1).
 
 #include <Eigen/Core>
 #include <array>
@@ -16,6 +17,7 @@
 
 #include "f2c/io/correspondences.h"
 #include "f2c/io/trajectory.h"
+#include "f2c/report/slice.h"
 
 namespace f2c {
 
@@ -53,6 +55,11 @@ struct ReportInput {
   std::vector<std::array<uint8_t, 3>> point_colors;
   std::vector<Eigen::Vector3f> camera_path;
   Eigen::Vector3f up = Eigen::Vector3f::UnitZ();
+  // The top-down slice of the registered points (the paper's Fig. 1; slice.h): what some
+  // frames saw, at these time stamps, placed by the ground truth and by each estimate.
+  std::vector<double> slice_timestamps;
+  std::vector<SliceFrame> slice_frames;
+  SliceOptions slice_options;
   std::string extra_html;                   // appended as is (pictures, further tables)
 };
 

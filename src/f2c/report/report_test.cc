@@ -67,8 +67,22 @@ TEST(BuildReport, EverySectionWithPlotsThatParse) {
     it.correspondences_by_type = {{"plane", 100 * i}, {"silhouette", 10}};
     in.iterations.push_back(it);
   }
+  // Five frames seeing a wall (x = 3) and a floor (y = 1; the cameras' up is -y).
+  for (int i = 0; i < 20; i += 4) {
+    in.slice_timestamps.push_back(1.0 + i / 30.0);
+    SliceFrame f;
+    const Rigid3d camera_from_world = in.ground_truth->world_from_camera[i].inverse();
+    for (int k = 0; k < 200; ++k) {
+      const bool wall = k % 2;
+      const Eigen::Vector3d p = wall ? Eigen::Vector3d(3, -1 + 0.01 * k, 0.01 * k) : Eigen::Vector3d(0.01 * k, 1, 0.01 * k);
+      const Eigen::Vector3d n = wall ? Eigen::Vector3d(-1, 0, 0) : Eigen::Vector3d(0, -1, 0);
+      f.points.push_back((camera_from_world * p).cast<float>());
+      f.normals.push_back((camera_from_world.linear() * n).cast<float>());
+    }
+    in.slice_frames.push_back(std::move(f));
+  }
   const std::string html = BuildReport(in);
-  for (const char* s : {"<h2>Run</h2>", "<h2>Trajectories</h2>", "<h2>Errors</h2>", "<h2>Correspondence errors</h2>",
+  for (const char* s : {"<h2>Run</h2>", "<h2>Top-down slice of the registered points</h2>", "<h2>Trajectories</h2>", "<h2>Errors</h2>", "<h2>Correspondence errors</h2>",
                         "<h2>Refinement</h2>", ">E_P</text>", ">silhouette</text>",
                         "the paper&#39;s Fig. 9", "test &lt;run&gt;", ">ICP / motion prior<"}) {
     EXPECT_NE(html.find(s), std::string::npos) << s;
@@ -83,7 +97,7 @@ TEST(BuildReport, EverySectionWithPlotsThatParse) {
     EXPECT_EQ(svg.find("no data"), std::string::npos) << svg.substr(0, 200);
     ++svgs;
   }
-  EXPECT_EQ(svgs, 11);  // 2 maps, 3 error plots, Fig. 9, histogram, 4 per-iteration plots
+  EXPECT_EQ(svgs, 14);  // 2 maps, 3 slices, 3 error plots, Fig. 9, histogram, 4 per-iteration plots
   EXPECT_EQ(html, BuildReport(in));  // the same bytes every time
 
   // Without ground truth or correspondences: the maps, and lines saying what is missing.

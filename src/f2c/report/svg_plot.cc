@@ -189,6 +189,12 @@ std::string RenderSvg(const Plot& plot) {
         }
       }
       svg += "\n";
+    } else if (s.style == PlotSeries::Style::kDots) {
+      std::string d;
+      for (size_t i = 0; i < n; ++i) {
+        if (ok(i)) d += fmt::format("M{:.1f} {:.1f}h{}v{}h-{}z", px(s.x[i]) - s.width / 2, py(s.y[i]) - s.width / 2, s.width, s.width, s.width);
+      }
+      if (!d.empty()) svg += fmt::format("<path d=\"{}\" fill=\"{}\"/>\n", d, s.color);
     } else {
       // Bars centred on x, as wide as the smallest gap between neighbouring x (90%).
       double gap = std::numeric_limits<double>::infinity();

@@ -87,5 +87,21 @@ TEST(RenderSvg, NaNBreaksALineAndEmptyPlotsSaySo) {
   EXPECT_EQ(Count(RenderSvg(log), "rect"), 2 + 1 + 2);  // background, frame, clip + 2 bars
 }
 
+TEST(RenderSvg, DotsAreOneSquarePerPointInOnePath) {
+  Plot p;
+  p.x.min = 0, p.x.max = 10, p.y.min = 0, p.y.max = 10;
+  p.width = 300, p.height = 300;
+  p.series.push_back({"", {1, 5, kNaN, 9}, {1, 5, 2, 9}, "#123456", PlotSeries::Style::kDots, 2});
+  const std::string svg = RenderSvg(p);
+  EXPECT_EQ(Count(svg, "path"), 1);
+  const size_t at = svg.find("fill=\"#123456\"");
+  ASSERT_NE(at, std::string::npos);
+  const size_t d = svg.rfind(" d=\"", at);
+  const std::string path = svg.substr(d + 4, svg.find('"', d + 4) - d - 4);
+  EXPECT_EQ(std::count(path.begin(), path.end(), 'M'), 3);  // the NaN point skipped
+  EXPECT_EQ(std::count(path.begin(), path.end(), 'z'), 3);
+  EXPECT_NE(path.find("h2v2h-2z"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace f2c
