@@ -112,6 +112,7 @@ int RunFuse(const FuseArgs& args);
 struct InfoArgs {
   std::string input;
   IoOptions io;
+  bool json = false;  // the frame list and facts as JSON
 };
 int RunInfo(const InfoArgs& args);
 

@@ -169,8 +169,14 @@ int RunEvaluate(const EvaluateArgs& args) {
               {"rotation_drift_deg", StatsJson(r.drift.rotation)},
               {"rotation_drift_min_seconds", r.drift.min_seconds}};
     if (corr) {
+      json by_gap = json::array();
+      for (const GapBin& b : corr->by_gap) {
+        by_gap.push_back({{"gap_from", b.gap_lo}, {"gap_to", b.gap_hi}, {"count", b.count}, {"mean_m", b.mean},
+                          {"median_m", b.median}});
+      }
       j["correspondences"] = {{"file", correspondence_file.string()},
                               {"distance_m", StatsJson(corr->distance)},
+                              {"by_frame_gap", by_gap},
                               {"skipped", corr->skipped}};
     }
     if (mesh_error) {

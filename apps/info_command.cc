@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <nlohmann/json.hpp>
 
 #include "apps/commands.h"
 #include "apps/common.h"
@@ -12,8 +13,37 @@
 
 namespace f2c::app {
 
+namespace {
+
+// The selected frames and what a script needs to read them itself (bench/run_benchmarks.sh
+// hands them to a peer): one JSON object on stdout.
+int PrintJson(const RgbdSequence& seq) {
+  nlohmann::json frames = nlohmann::json::array();
+  for (const RgbdFrame& f : seq.frames) {
+    frames.push_back({{"timestamp", f.timestamp}, {"color", f.color_path.string()}, {"depth", f.depth_path.string()}});
+  }
+  nlohmann::json j = {{"input", seq.root.string()},
+                      {"layout", LayoutName(seq.layout)},
+                      {"depth_meters_per_unit", seq.depth_scale},
+                      {"depth_encoding", seq.depth_encoding == DepthEncoding::kSun3dBitRotated ? "sun3d" : "plain"},
+                      {"ground_truth", seq.ground_truth ? seq.ground_truth_source.string() : ""},
+                      {"frames", frames}};
+  if (seq.intrinsics) {
+    const CameraIntrinsics& k = *seq.intrinsics;
+    j["intrinsics"] = {{"fx", k.fx}, {"fy", k.fy}, {"cx", k.cx}, {"cy", k.cy}, {"width", k.width}, {"height", k.height},
+                       {"source", seq.intrinsics_source}};
+  } else {
+    j["intrinsics"] = nullptr;
+  }
+  std::printf("%s\n", j.dump(2).c_str());
+  return 0;
+}
+
+}  // namespace
+
 int RunInfo(const InfoArgs& args) {
   const RgbdSequence seq = ReadSequence(args.input, args.io);
+  if (args.json) return PrintJson(seq);
   std::printf("input        %s\n", args.input.c_str());
   std::printf("layout       %s\n", LayoutName(seq.layout).c_str());
   std::printf("frames       %zu (%.3f .. %.3f s)\n", seq.frames.size(), seq.frames.front().timestamp,
@@ -59,6 +89,9 @@ Subcommand AddInfoCommand(CLI::App* app) {
                                                   "intrinsics, depth range, ground truth");
   cmd->add_option("INPUT", args->input, "dataset folder or .conf")->required();
   AddFrameSelection(cmd, &args->io);
+  cmd->add_flag("--json", args->json,
+                "print JSON instead: layout, intrinsics, depth scale, ground truth and every selected frame's time "
+                "stamp and files");
   return {cmd, [args] { return RunInfo(*args); }};
 }
 

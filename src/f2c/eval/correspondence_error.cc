@@ -17,10 +17,36 @@ std::vector<std::optional<Rigid3d>> PosesAtFrames(const Trajectory& estimate, co
   return poses;
 }
 
+std::vector<GapBin> BinByGap(const std::vector<std::pair<int, double>>& gap_errors) {
+  std::vector<std::vector<double>> bins;
+  for (const auto& [gap, error] : gap_errors) {
+    if (gap < 1 || !std::isfinite(error)) continue;
+    const int k = static_cast<int>(std::floor(std::log2(static_cast<double>(gap)) + 1e-12));
+    if (static_cast<int>(bins.size()) <= k) bins.resize(k + 1);
+    bins[k].push_back(error);
+  }
+  std::vector<GapBin> out;
+  for (int k = 0; k < static_cast<int>(bins.size()); ++k) {
+    std::vector<double>& v = bins[k];
+    if (v.empty()) continue;
+    std::sort(v.begin(), v.end());
+    GapBin b;
+    b.gap_lo = 1 << k, b.gap_hi = 1 << (k + 1), b.count = static_cast<int>(v.size());
+    double sum = 0;
+    for (double e : v) sum += e;
+    b.mean = sum / v.size();
+    const size_t m = v.size() / 2;
+    b.median = v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+    out.push_back(b);
+  }
+  return out;
+}
+
 CorrespondenceResult CorrespondenceError(const std::vector<std::optional<Rigid3d>>& world_from_frame,
                                          const std::vector<Correspondence>& correspondences, const std::string& source) {
   CorrespondenceResult result;
   std::vector<double> distances;
+  std::vector<std::pair<int, double>> by_gap;
   const int frames = static_cast<int>(world_from_frame.size());
   for (const Correspondence& c : correspondences) {
     for (int frame : {c.frame_a, c.frame_b}) {
@@ -36,8 +62,10 @@ CorrespondenceResult CorrespondenceError(const std::vector<std::optional<Rigid3d
       continue;
     }
     distances.push_back((*a * c.point_in_a - *b * c.point_in_b).norm());
+    by_gap.emplace_back(std::abs(c.frame_b - c.frame_a), distances.back());
   }
   result.distance = ComputeStatistics(std::move(distances));
+  result.by_gap = BinByGap(by_gap);
   return result;
 }
 

@@ -6,6 +6,7 @@
 // the global frame of the estimate: it measures exactly what a bent or doubled wall costs.
 
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "f2c/eval/trajectory_error.h"
@@ -18,8 +19,18 @@ namespace f2c {
 std::vector<std::optional<Rigid3d>> PosesAtFrames(const Trajectory& estimate, const std::vector<double>& frame_timestamps,
                                                   double max_time_difference);
 
+// The paper's Fig. 9: errors grouped by frame gap in powers of two: bin k holds gaps in [2^k, 2^(k+1)). Empty bins
+// are left out; the median of an even count is the mean of the middle two.
+struct GapBin {
+  int gap_lo = 0, gap_hi = 0;  // [lo, hi)
+  int count = 0;
+  double mean = 0, median = 0;
+};
+std::vector<GapBin> BinByGap(const std::vector<std::pair<int, double>>& gap_errors);
+
 struct CorrespondenceResult {
   ErrorStatistics distance;  // metres, over the correspondences whose frames both have poses
+  std::vector<GapBin> by_gap;  // the same distances by frame gap |a - b| (the paper's Fig. 9)
   int skipped = 0;           // correspondences with a frame that has no estimated pose
 };
 

@@ -53,6 +53,14 @@ TEST(CorrespondenceError, MeasuresTheDisplacementOfAWrongPose) {
   EXPECT_NEAR(r.distance.max, 0.05, 1e-12);
   EXPECT_NEAR(r.distance.rmse, std::sqrt(8 * 0.05 * 0.05 / 12), 1e-12);
   EXPECT_NEAR(r.distance.median, 0.05, 1e-12);
+  // By frame gap (Fig. 9): gap 1 (pairs 0-1 and 1-2: 4 of 8 off), gap 2 (pair 0-2: all off).
+  ASSERT_EQ(r.by_gap.size(), 2u);
+  EXPECT_EQ(r.by_gap[0].gap_lo, 1);
+  EXPECT_EQ(r.by_gap[0].count, 8);
+  EXPECT_NEAR(r.by_gap[0].mean, 0.025, 1e-12);
+  EXPECT_NEAR(r.by_gap[0].median, 0.025, 1e-12);  // even count: (0 + 0.05) / 2
+  EXPECT_EQ(r.by_gap[1].gap_lo, 2);
+  EXPECT_NEAR(r.by_gap[1].median, 0.05, 1e-12);
 }
 
 TEST(CorrespondenceError, FramesWithoutPosesAreSkippedAndUnknownFramesAreErrors) {
@@ -83,6 +91,24 @@ TEST(PosesAtFrames, AssociatesByTimeStamp) {
     EXPECT_EQ(poses[i]->translation().x(), i);
   }
   EXPECT_FALSE(poses[3].has_value());
+}
+
+TEST(BinByGap, PowersOfTwoWithEvenAndOddMedians) {
+  // Gaps 1 | 2, 3 | 4..7 | 8..15: errors chosen so that each median is easy to check.
+  const std::vector<std::pair<int, double>> e = {{1, 0.1}, {1, 0.3}, {2, 0.5}, {3, 0.2}, {3, 0.9},
+                                                 {4, 1.0}, {7, 3.0}, {5, 2.0}, {6, 8.0}, {9, 4.0}};
+  const std::vector<GapBin> b = BinByGap(e);
+  ASSERT_EQ(b.size(), 4u);
+  EXPECT_EQ(b[0].gap_lo, 1);
+  EXPECT_EQ(b[0].gap_hi, 2);
+  EXPECT_DOUBLE_EQ(b[0].median, 0.2);  // even: (0.1 + 0.3) / 2
+  EXPECT_EQ(b[1].count, 3);
+  EXPECT_DOUBLE_EQ(b[1].median, 0.5);  // odd: 0.2, 0.5, 0.9
+  EXPECT_NEAR(b[1].mean, 1.6 / 3, 1e-12);
+  EXPECT_DOUBLE_EQ(b[2].median, 2.5);  // 1, 2, 3, 8
+  EXPECT_EQ(b[3].gap_lo, 8);
+  EXPECT_DOUBLE_EQ(b[3].median, 4.0);
+  EXPECT_TRUE(BinByGap({}).empty());
 }
 
 }  // namespace

@@ -16,31 +16,6 @@
 
 namespace f2c {
 
-std::vector<GapBin> BinByGap(const std::vector<std::pair<int, double>>& gap_errors) {
-  std::vector<std::vector<double>> bins;
-  for (const auto& [gap, error] : gap_errors) {
-    if (gap < 1 || !std::isfinite(error)) continue;
-    const int k = static_cast<int>(std::floor(std::log2(static_cast<double>(gap)) + 1e-12));
-    if (static_cast<int>(bins.size()) <= k) bins.resize(k + 1);
-    bins[k].push_back(error);
-  }
-  std::vector<GapBin> out;
-  for (int k = 0; k < static_cast<int>(bins.size()); ++k) {
-    std::vector<double>& v = bins[k];
-    if (v.empty()) continue;
-    std::sort(v.begin(), v.end());
-    GapBin b;
-    b.gap_lo = 1 << k, b.gap_hi = 1 << (k + 1), b.count = static_cast<int>(v.size());
-    double sum = 0;
-    for (double e : v) sum += e;
-    b.mean = sum / v.size();
-    const size_t m = v.size() / 2;
-    b.median = v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-    out.push_back(b);
-  }
-  return out;
-}
-
 std::vector<int> Histogram(const std::vector<double>& values, double max, int bins) {
   std::vector<int> h(std::max(bins, 1), 0);
   for (double v : values) {

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "f2c/eval/correspondence_error.h"
 #include "f2c/io/correspondences.h"
 #include "f2c/io/trajectory.h"
 #include "f2c/report/slice.h"
@@ -66,15 +67,6 @@ struct ReportInput {
 // The whole page (UTF-8). Sections without their data (no ground truth, no correspondences)
 // are left out, with a line saying why.
 std::string BuildReport(const ReportInput& input);
-
-// Errors grouped by frame gap in powers of two: bin k holds gaps in [2^k, 2^(k+1)). Empty bins
-// are left out; the median of an even count is the mean of the middle two.
-struct GapBin {
-  int gap_lo = 0, gap_hi = 0;  // [lo, hi)
-  int count = 0;
-  double mean = 0, median = 0;
-};
-std::vector<GapBin> BinByGap(const std::vector<std::pair<int, double>>& gap_errors);
 
 // Bytes as base64 (RFC 4648), for data inlined in the page.
 std::string Base64(const std::string& bytes);

@@ -8,24 +8,6 @@
 namespace f2c {
 namespace {
 
-TEST(BinByGap, PowersOfTwoWithEvenAndOddMedians) {
-  // Gaps 1 | 2, 3 | 4..7 | 8..15: errors chosen so that each median is easy to check.
-  const std::vector<std::pair<int, double>> e = {{1, 0.1}, {1, 0.3}, {2, 0.5}, {3, 0.2}, {3, 0.9},
-                                                 {4, 1.0}, {7, 3.0}, {5, 2.0}, {6, 8.0}, {9, 4.0}};
-  const std::vector<GapBin> b = BinByGap(e);
-  ASSERT_EQ(b.size(), 4u);
-  EXPECT_EQ(b[0].gap_lo, 1);
-  EXPECT_EQ(b[0].gap_hi, 2);
-  EXPECT_DOUBLE_EQ(b[0].median, 0.2);  // even: (0.1 + 0.3) / 2
-  EXPECT_EQ(b[1].count, 3);
-  EXPECT_DOUBLE_EQ(b[1].median, 0.5);  // odd: 0.2, 0.5, 0.9
-  EXPECT_NEAR(b[1].mean, 1.6 / 3, 1e-12);
-  EXPECT_DOUBLE_EQ(b[2].median, 2.5);  // 1, 2, 3, 8
-  EXPECT_EQ(b[3].gap_lo, 8);
-  EXPECT_DOUBLE_EQ(b[3].median, 4.0);
-  EXPECT_TRUE(BinByGap({}).empty());
-}
-
 TEST(Histogram, EqualBinsAndOverflowInTheLast) {
   EXPECT_EQ(Histogram({0.0, 0.05, 0.1, 0.19, 0.2, 0.5, -1.0}, 0.2, 2), (std::vector<int>{2, 4}));
 }
