@@ -185,14 +185,31 @@ std::string View3d(const ReportInput& in) {
 std::string SliceSection(const ReportInput& in, const std::vector<std::pair<const ReportTrajectory*, Rigid3d>>& estimates) {
   std::vector<std::pair<std::string, std::string>> names;  // name, colour
   std::vector<std::vector<std::optional<Rigid3d>>> pose_sets;
+  std::vector<std::optional<Rigid3d>> truth;
   if (in.ground_truth) {
-    std::vector<std::optional<Rigid3d>> truth;
     for (double t : in.slice_timestamps) truth.push_back(TruthAt(*in.ground_truth, t, in.max_time_difference));
     names.emplace_back("ground truth", "#444444");
-    pose_sets.push_back(std::move(truth));
+    pose_sets.push_back(truth);
   }
-  for (const auto& [e, gt_from_estimate] : estimates) {
+  for (const auto& [e, ate_alignment] : estimates) {
     auto poses = PosesAtFrames(e->trajectory, in.slice_timestamps, in.max_time_difference);
+    // Aligned by whole poses: each frame's position and the tips of its axes (1 m long). The
+    // positions alone leave the rotation free when the camera moved along a line (a few
+    // frames), which would turn the drawing.
+    Rigid3d gt_from_estimate = ate_alignment;
+    std::vector<Eigen::Vector3d> from, to;
+    for (size_t k = 0; k < truth.size(); ++k) {
+      if (!poses[k] || !truth[k]) continue;
+      for (int axis = -1; axis < 3; ++axis) {
+        const Eigen::Vector3d local = axis < 0 ? Eigen::Vector3d(Eigen::Vector3d::Zero()) : Eigen::Vector3d(Eigen::Vector3d::Unit(axis));
+        from.push_back(*poses[k] * local), to.push_back(*truth[k] * local);
+      }
+    }
+    if (from.size() >= 8) {
+      Eigen::Matrix3Xd a(3, from.size()), b(3, to.size());
+      for (size_t i = 0; i < from.size(); ++i) a.col(i) = from[i], b.col(i) = to[i];
+      gt_from_estimate.matrix() = Eigen::umeyama(a, b, false);
+    }
     for (auto& p : poses) {
       if (p) p = gt_from_estimate * *p;
     }
@@ -256,7 +273,7 @@ std::string SliceSection(const ReportInput& in, const std::vector<std::pair<cons
          Note(fmt::format("The points of {} frames within {:.2f} m of {:.2f} m height (the layer with the most wall "
                           "points), seen from above{}. A consistent registration draws each wall once, as a thin line.",
                           in.slice_frames.size(), 0.5 * band.thickness, band.height,
-                          in.ground_truth ? "; each estimate aligned to the ground truth as for ATE" : ""));
+                          in.ground_truth ? "; each estimate rigidly aligned to the ground truth by its poses (positions and axes)" : ""));
 }
 
 std::string Base64(const std::string& bytes) {
