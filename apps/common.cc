@@ -3,10 +3,21 @@
 #include <fmt/format.h>
 
 #include <Eigen/Core>
+#include <cmath>
 #include <opencv2/core/version.hpp>
 
 namespace f2c::app {
 using nlohmann::json;
+
+CLI::Validator Finite() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(text, v)) return "'" + text + "' is not a number";
+        return std::isfinite(v) ? std::string() : "'" + text + "' is not a finite number";
+      },
+      "FINITE");
+}
 
 json Versions() {
   return {{"fine2coarse", F2C_VERSION},

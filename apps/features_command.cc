@@ -23,8 +23,8 @@ using nlohmann::json;
 
 int RunFeatures(const FeaturesArgs& args) {
   const fs::path out = args.output;
+  const RgbdSequence seq = ReadSequence(args.input, args.io);  // a bad input leaves no output folder
   EnsureWritableDirectory(out);
-  const RgbdSequence seq = ReadSequence(args.input, args.io);
   spdlog::info("{}: {} layout, {} frames", args.input, LayoutName(seq.layout), seq.frames.size());
   FeatureRun run;
   run.quiet = args.quiet;

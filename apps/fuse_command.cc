@@ -21,10 +21,10 @@ int RunFuse(const FuseArgs& args) {
   args.fusion.Check();
   const fs::path out = args.output;
   if (out.extension() != ".ply") ThrowInputError(out, "the mesh is written as PLY: give a .ply file");
-  EnsureWritableDirectory(out.parent_path().empty() ? fs::path(".") : out.parent_path());
-  const RgbdSequence seq = ReadSequence(args.input, args.io);
+  const RgbdSequence seq = ReadSequence(args.input, args.io);  // the inputs first: no folder left behind
   RequireIntrinsics(seq);
   const Trajectory trajectory = ReadTrajectoryFile(args.trajectory);
+  EnsureWritableDirectory(out.parent_path().empty() ? fs::path(".") : out.parent_path());
   const auto poses = PosesForFrames(seq, trajectory, args.io.max_time_difference, args.trajectory);
   spdlog::info("{}: {} frames, {} with a pose in {}", args.input, seq.frames.size(),
                std::count_if(poses.begin(), poses.end(), [](const auto& p) { return p.has_value(); }), args.trajectory);

@@ -88,10 +88,12 @@ int RunRegister(const RegisterArgs& args) {
   }
   args.odometry.Check();
   const fs::path out = args.output;
-  EnsureWritableDirectory(out);  // fail before minutes of work, not after
   Timer timer;
+  // The input first (a bad one leaves no output folder behind), then the output folder:
+  // both fail in seconds, before minutes of work.
   const RgbdSequence seq = ReadSequence(args.input, args.io);
   const double read_s = timer.Seconds();
+  EnsureWritableDirectory(out);
   spdlog::info("{}: {} layout, {} frames", args.input, LayoutName(seq.layout), seq.frames.size());
   if (seq.frames.size() < 2) ThrowInputError(args.input, "registration needs at least 2 frames");
 

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "apps/commands.h"
+#include "apps/common.h"
 #include "f2c/sim/simulate.h"
 #include "f2c/util/timer.h"
 
@@ -66,15 +67,19 @@ Subcommand AddSimulateCommand(CLI::App* app) {
   CLI::App* cmd = app->add_subcommand(
       "simulate", "render a synthetic multi-room RGB-D scan with exact ground truth (TUM layout)");
   cmd->add_option("--scene", args->scene, "two-rooms, apartment (its living room a trapezoid, side walls 14 deg off square), apartment-square (the same at 6 deg) or corridor")->capture_default_str();
-  cmd->add_option("--frames", args->frames, "frames at 30 Hz")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--frames", args->frames, "frames at 30 Hz (at most 100,000: 55 minutes of walking)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
   cmd->add_option("--seed", args->seed, "furniture, walk and noise")->capture_default_str();
   cmd->add_option("-o,--output", args->output, "output folder")->required();
-  cmd->add_option("--correspondences", args->correspondences, "ground-truth correspondences to write")
-      ->capture_default_str();
+  cmd->add_option("--correspondences", args->correspondences, "ground-truth correspondences to write (at most 1,000,000)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000000));
   cmd->add_flag("--exact", args->exact, "no sensor noise, holes or blur");
   cmd->add_option("--depth-distortion", args->depth_distortion,
-                      "low-frequency depth distortion k: z *= 1 + k r^2 (0: off)")
-      ->capture_default_str();
+                      "low-frequency depth distortion k: z *= 1 + k r^2 (0: off; within -1..1)")
+      ->capture_default_str()
+      ->check(CLI::Range(-1.0, 1.0) & Finite());
   cmd->add_flag("-q,--quiet", args->quiet, "no progress output");
 
   return {cmd, [args] {
@@ -88,7 +93,9 @@ Subcommand AddDemoCommand(CLI::App* app) {
   CLI::App* cmd = app->add_subcommand(
       "demo", "no download needed: simulate an apartment scan, register it, evaluate it");
   cmd->add_option("-o,--output", args->output, "output folder")->capture_default_str();
-  cmd->add_option("--frames", args->frames, "frames to simulate")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--frames", args->frames, "frames to simulate (at most 100,000)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
   cmd->add_option("--seed", args->seed, "seed")->capture_default_str();
   return {cmd, [args] { return RunDemo(*args); }};
 }

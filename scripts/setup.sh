@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs every build and test dependency of fine2coarse from Debian 12's packages.
 # Idempotent: packages already present are skipped, so a second run costs a few seconds.
+# --peers also installs what bench/run_benchmarks.sh needs to run Open3D's reconstruction
+# system beside us (python3-open3d, python3-joblib); the build and the tests do not need it.
 # libopenblas0-pthread: CHOLMOD (Ceres) then uses OpenBLAS instead of the reference BLAS
 # or ATLAS; the refinement solves faster (BENCHMARKS.md).
 set -euo pipefail
@@ -12,6 +14,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libtinyxml2-dev
   libjs-three chromium
 )
+[ "${1:-}" = "--peers" ] && packages+=(python3-open3d python3-joblib)
 
 missing=()
 for p in "${packages[@]}"; do

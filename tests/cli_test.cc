@@ -26,8 +26,9 @@ struct Result {
   std::string output;  // stdout and stderr
 };
 
-Result RunCli(const std::string& args) {
-  const std::string command = std::string(F2C_CLI_PATH) + " " + args + " 2>&1";
+// `shell_tail` follows the command line as is (redirections of its own).
+Result RunCli(const std::string& args, const std::string& shell_tail = " 2>&1") {
+  const std::string command = std::string(F2C_CLI_PATH) + " " + args + shell_tail;
   FILE* pipe = popen(command.c_str(), "r");
   Result r;
   std::array<char, 4096> buffer;
@@ -36,6 +37,16 @@ Result RunCli(const std::string& args) {
   const int status = pclose(pipe);
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+// zlib's CRC-32 (PNG chunks), bit by bit: a test needs only a few bytes of it.
+uint32_t Crc32ForTest(const std::string& bytes) {
+  uint32_t crc = 0xFFFFFFFFu;
+  for (unsigned char b : bytes) {
+    crc ^= b;
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+  }
+  return ~crc;
 }
 
 fs::path Data(const std::string& name) { return fs::path(F2C_SHARED_DATA_DIR) / name; }
@@ -411,6 +422,86 @@ TEST(Cli, CorruptFrameExitsOneNamingTheFile) {
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(r.output, "error: " + victim.string() + ": cannot decode image (corrupt or not an image)\n");
   EXPECT_FALSE(fs::exists(out / "trajectory.txt"));
+}
+
+// Inputs that once ended in exit 3 ("internal error") or in OpenCV's words: each is one line
+// naming the file, exit 1, and no output folder left behind.
+TEST(Cli, FilesystemAndOversizedImagesAreOneLineErrors) {
+  const fs::path dir = SyntheticTum("cli_fs", 3);
+  // A listed image that is a symlink loop.
+  const fs::path victim = *fs::directory_iterator(dir / "depth");
+  fs::remove(victim);
+  fs::create_symlink(victim, victim);
+  const fs::path out = testing::FreshTempDir("cli_fs_out") / "run";
+  Result r = RunCli("register " + dir.string() + " --intrinsics primesense -q -o " + out.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.output, "error: " + victim.string() + ": Too many levels of symbolic links\n");
+  EXPECT_FALSE(fs::exists(out));
+  // The first depth image's header claims 100000 x 100000 pixels and the intrinsics carry no
+  // size, so the reader looks at it first.
+  const fs::path big = testing::FreshTempDir("cli_fs_big");
+  testing::WriteTumSequence(big, testing::SyntheticScene(), testing::TestIntrinsics(),
+                            {Rigid3d::Identity(), Rigid3d::Identity()});
+  std::vector<fs::path> depths;
+  for (const auto& e : fs::directory_iterator(big / "depth")) depths.push_back(e.path());
+  std::sort(depths.begin(), depths.end());
+  std::string header = "\x89PNG\r\n\x1a\n";
+  auto put32 = [](std::string* s, uint32_t v) {
+    for (int shift = 24; shift >= 0; shift -= 8) s->push_back(static_cast<char>((v >> shift) & 0xff));
+  };
+  std::string ihdr = "IHDR";
+  put32(&ihdr, 100000), put32(&ihdr, 100000);
+  ihdr += std::string("\x10\0\0\0\0", 5);
+  put32(&header, 13);
+  header += ihdr;
+  put32(&header, static_cast<uint32_t>(Crc32ForTest(ihdr)));
+  WriteFileAtomic(depths.front(), header + std::string("\0\0\0\0IEND\xae\x42\x60\x82", 12));
+  r = RunCli("info " + big.string() + " --intrinsics 525,525,319.5,239.5");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.output, "error: " + depths.front().string() +
+                          ": PNG of 100000 x 100000 pixels: over the 32-megapixel limit for RGB-D frames\n");
+  // The output folder's cache is a file.
+  const fs::path good = SyntheticTum("cli_fs_good", 3);
+  const fs::path blocked = testing::FreshTempDir("cli_fs_blocked");
+  WriteFileAtomic(blocked / "cache", "not a folder");
+  r = RunCli("register " + good.string() + " --intrinsics primesense -q --stop-after odometry -o " + blocked.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.output, "error: " + (blocked / "cache").string() + ": Not a directory\n");
+}
+
+TEST(Cli, FailedWritesToStdoutAndAbsurdOptionsAreErrors) {
+  // Results on stdout that cannot be written (a full disk) are not a success.
+  const fs::path dir = SyntheticTum("cli_stdout", 2);
+  Result r = RunCli("info " + dir.string() + " --intrinsics primesense --json", " 2>&1 > /dev/full");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.output, "error: stdout: No space left on device\n");
+  r = RunCli("simulate --frames 2000000000 -o " + (testing::FreshTempDir("cli_absurd") / "s").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("--frames: Value 2000000000 not in range 1 to 100000"), std::string::npos) << r.output;
+  r = RunCli("simulate --frames 3 --depth-distortion nan -o " + (testing::FreshTempDir("cli_absurd") / "s").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("--depth-distortion: 'nan' is not a finite number"), std::string::npos) << r.output;
+  r = RunCli("register " + dir.string() + " --intrinsics primesense -q -o ''");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.output, "error: (empty path): cannot create output folder: Invalid argument\n");
+}
+
+// A damaged entry in the pair cache is recomputed, with one warning, to the same poses.
+TEST(Cli, ADamagedCachedPairIsRecomputed) {
+  const fs::path dir = SyntheticTum("cli_cache_damage", 4);
+  const fs::path out = testing::FreshTempDir("cli_cache_damage_out");
+  const std::string cmd = "register " + dir.string() + " --intrinsics primesense -q --stop-after odometry -o " + out.string();
+  ASSERT_EQ(RunCli(cmd).code, 0);
+  const std::string before = ReadFileToString(out / "trajectory.txt");
+  nlohmann::json cache = nlohmann::json::parse(ReadFileToString(out / "cache" / "odometry_pairs.json"));
+  ASSERT_FALSE(cache["pairs"].empty());
+  cache["pairs"].begin().value()["prev_from_curr"][0] = 2.0;  // scaled: not a rotation
+  WriteFileAtomic(out / "cache" / "odometry_pairs.json", cache.dump());
+  const Result r = RunCli(cmd);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("a cached pair is damaged (prev_from_curr is not a rotation); recomputing it"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(ReadFileToString(out / "trajectory.txt"), before);
 }
 
 TEST(Cli, SimulateWritesAReadableScanAndDemoEvaluatesIt) {

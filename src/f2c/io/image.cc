@@ -21,7 +21,9 @@ PngRequest AsPngRequest(int flags) {
   return PngRequest::kUnchanged;  // cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR
 }
 
-cv::Mat Decode(const std::filesystem::path& path, int flags) {
+}  // namespace
+
+cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags) {
   if (!std::filesystem::is_regular_file(path)) ThrowInputError(path, "missing frame image");
   const std::string bytes = ReadFileToString(path);
   cv::Mat image;
@@ -41,10 +43,8 @@ cv::Mat Decode(const std::filesystem::path& path, int flags) {
   return image;
 }
 
-}  // namespace
-
 cv::Mat LoadDepthMeters(const RgbdSequence& sequence, const RgbdFrame& frame) {
-  const cv::Mat raw = Decode(frame.depth_path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+  const cv::Mat raw = DecodeImageFile(frame.depth_path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
   if (raw.depth() == CV_8U) {
     ThrowInputError(frame.depth_path, "depth image is 8-bit; expected 16-bit");
   }
@@ -87,7 +87,7 @@ cv::Mat LoadDepthMeters(const RgbdSequence& sequence, const RgbdFrame& frame) {
 namespace {
 
 cv::Mat LoadColorAs(const RgbdFrame& frame, cv::Size depth_size, int flags) {
-  cv::Mat color = Decode(frame.color_path, flags);
+  cv::Mat color = DecodeImageFile(frame.color_path, flags);
   if (!depth_size.empty() && color.size() != depth_size) {
     ThrowInputError(frame.color_path,
                     fmt::format("colour image is {}x{} but its depth image {} is {}x{}", color.cols,

@@ -8,6 +8,10 @@
 
 namespace f2c {
 
+// Any image file as OpenCV's imread `flags` ask, through our PNG and JPEG paths first: a
+// missing, damaged or oversized (over 32 megapixels) file is an InputError naming it.
+cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags);
+
 // Depth in metres (CV_32F); invalid pixels are 0. Checks: the file decodes, is 16-bit single
 // channel, and has the intrinsics' size when intrinsics are known.
 cv::Mat LoadDepthMeters(const RgbdSequence& sequence, const RgbdFrame& frame);

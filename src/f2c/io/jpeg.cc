@@ -1,5 +1,7 @@
 #include "f2c/io/jpeg.h"
 
+#include <fmt/format.h>
+
 #include <turbojpeg.h>
 
 #include <cstdint>
@@ -36,8 +38,12 @@ DecodeStatus DecodeJpeg(std::string_view bytes, bool grey, cv::Mat* out, std::st
     return DecodeStatus::kNotHandled;
   }
   if (colorspace != TJCS_YCbCr && colorspace != TJCS_RGB && colorspace != TJCS_GRAY) return DecodeStatus::kNotHandled;
-  // Larger than any depth camera's frame (32 megapixels): OpenCV's own limits decide.
-  if (width <= 0 || height <= 0 || int64_t{width} * height > (int64_t{1} << 25)) return DecodeStatus::kNotHandled;
+  if (width <= 0 || height <= 0) return DecodeStatus::kNotHandled;
+  // Larger than any depth camera's frame: refused before anything is allocated.
+  if (int64_t{width} * height > (int64_t{1} << 25)) {
+    if (problem) *problem = fmt::format("JPEG of {} x {} pixels: over the 32-megapixel limit for RGB-D frames", width, height);
+    return DecodeStatus::kCorrupt;
+  }
   cv::Mat image(height, width, grey ? CV_8UC1 : CV_8UC3);
   // A warning (a cut-short or damaged stream decodes partly) counts as damage.
   if (tjDecompress2(handle.get(), data, static_cast<unsigned long>(size), image.data, width, static_cast<int>(image.step[0]),

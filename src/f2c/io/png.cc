@@ -155,6 +155,10 @@ DecodeStatus DecodePng(std::string_view bytes, PngRequest request, cv::Mat* out,
       if (length != 13) return corrupt("corrupt PNG: IHDR chunk of the wrong size");
       h.width = BigEndian32(body);
       h.height = BigEndian32(body + 4);
+      // Larger than any depth camera's frame: refused from the header, before anything else.
+      if (uint64_t{h.width} * h.height > (uint64_t{1} << 25)) {
+        return corrupt(fmt::format("PNG of {} x {} pixels: over the 32-megapixel limit for RGB-D frames", h.width, h.height));
+      }
       h.bit_depth = body[8];
       h.color_type = body[9];
       if (body[10] != 0 || body[11] != 0 || body[12] != 0) return kNotHandled;  // compression, filter, interlace
@@ -174,8 +178,6 @@ DecodeStatus DecodePng(std::string_view bytes, PngRequest request, cv::Mat* out,
   if (!grey && !rgb) return kNotHandled;
   if (h.bit_depth == 16 && request != PngRequest::kUnchanged) return kNotHandled;
   if (h.width == 0 || h.height == 0) return corrupt("corrupt PNG: zero width or height");
-  // Larger than any depth camera's frame (32 megapixels): OpenCV's own limits decide.
-  if (uint64_t{h.width} * h.height > (uint64_t{1} << 25)) return kNotHandled;
 
   const int bpp = (rgb ? 3 : 1) * h.bit_depth / 8;
   const size_t row_bytes = size_t{h.width} * bpp;

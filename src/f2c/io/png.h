@@ -22,9 +22,10 @@ enum class PngRequest { kGray, kBgr, kUnchanged };
 
 // Decodes `bytes` into *out. kNotHandled, with *out untouched, for PNGs this path leaves to
 // OpenCV (palette, alpha, interlaced, 16-bit colour, 1-4 bit grey, a transparency or
-// colour-management chunk, over 32 megapixels, a damaged ancillary chunk, or not a PNG).
+// colour-management chunk, a damaged ancillary chunk, or not a PNG).
 // kCorrupt for a damaged one: cut short, a bad checksum in IHDR, IDAT or IEND, a broken
-// zlib stream, image data of the wrong size, an unknown row filter.
+// zlib stream, image data of the wrong size, an unknown row filter; and over 32 megapixels
+// (no RGB-D camera's frame is that large: refused before allocating).
 DecodeStatus DecodePng(std::string_view bytes, PngRequest request, cv::Mat* out, std::string* problem = nullptr);
 
 }  // namespace f2c

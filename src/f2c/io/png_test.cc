@@ -172,6 +172,23 @@ TEST(DecodePng, LeavesOtherKindsToOpenCv) {
   EXPECT_TRUE(out.empty());  // untouched
 }
 
+// A header that claims 100000 x 100000 pixels (20 GB of 16-bit depth) is refused from the
+// header, before anything is allocated.
+TEST(DecodePng, RefusesAnOversizedImageFromItsHeader) {
+  std::string png = "\x89PNG\r\n\x1a\n";
+  std::string ihdr;
+  Put32(&ihdr, 100000), Put32(&ihdr, 100000);
+  ihdr += std::string("\x10\0\0\0\0", 5);  // 16-bit grey, deflate, no interlace
+  PutChunk(&png, "IHDR", ihdr);
+  PutChunk(&png, "IDAT", std::string("\x78\x9c\x03\0\0\0\0\x01", 8));
+  PutChunk(&png, "IEND", "");
+  cv::Mat out;
+  std::string what;
+  EXPECT_EQ(DecodePng(png, PngRequest::kUnchanged, &out, &what), DecodeStatus::kCorrupt);
+  EXPECT_EQ(what, "PNG of 100000 x 100000 pixels: over the 32-megapixel limit for RGB-D frames");
+  EXPECT_TRUE(out.empty());
+}
+
 TEST(DecodePng, SaysHowADamagedFileIsDamaged) {
   const cv::Mat rgb = TestImage(CV_8UC3, 5);
   const std::string png = EncodePng(rgb, 4);

@@ -1,5 +1,7 @@
 #include "f2c/io/sequence.h"
 
+#include "f2c/io/image.h"
+
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -150,8 +152,7 @@ RgbdSequence ReadSequence(const fs::path& path, const IoOptions& options) {
     // image's; every frame is then checked against it when decoded.
     if (sequence.intrinsics && !sequence.intrinsics->size_known) {
       const fs::path& first = sequence.frames.front().depth_path;
-      const cv::Mat depth = cv::imread(first.string(), cv::IMREAD_UNCHANGED);
-      if (depth.empty()) ThrowInputError(first, "cannot decode image (corrupt or not an image)");
+      const cv::Mat depth = DecodeImageFile(first, cv::IMREAD_UNCHANGED);
       sequence.intrinsics->width = depth.cols;
       sequence.intrinsics->height = depth.rows;
       sequence.intrinsics->size_known = true;

@@ -434,6 +434,15 @@ PairAlignment PairAlignmentFromJson(const nlohmann::json& j) {
   const auto m = j.at("prev_from_curr").get<std::vector<double>>();
   if (m.size() != 16) throw std::invalid_argument("prev_from_curr needs 16 numbers");
   for (int i = 0; i < 16; ++i) p.prev_from_curr.matrix()(i / 4, i % 4) = m[i];
+  // Trust nothing read back: a damaged entry must not become a NaN or sheared trajectory.
+  const Eigen::Matrix4d& t = p.prev_from_curr.matrix();
+  if (!t.allFinite()) throw std::invalid_argument("prev_from_curr is not finite");
+  if (!t.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1), 1e-12)) throw std::invalid_argument("prev_from_curr's last row is not 0 0 0 1");
+  const Eigen::Matrix3d r = t.topLeftCorner<3, 3>();
+  if (!(r.transpose() * r).isApprox(Eigen::Matrix3d::Identity(), 1e-6) || r.determinant() < 0) {
+    throw std::invalid_argument("prev_from_curr is not a rotation");
+  }
+  if (t.col(3).head<3>().norm() > 100) throw std::invalid_argument("prev_from_curr moves more than 100 m");
   const std::string method = j.at("method").get<std::string>();
   if (method == MethodName(AlignmentMethod::kSift)) {
     p.method = AlignmentMethod::kSift;
@@ -454,6 +463,13 @@ PairAlignment PairAlignmentFromJson(const nlohmann::json& j) {
   p.fitness = j.at("fitness").get<double>();
   p.degenerate = j.value("degenerate", 0);
   p.overlap_rmse = j.at("overlap_rmse").get<double>();
+  if (p.keypoints_prev < 0 || p.keypoints_curr < 0 || p.matches < 0 || p.inliers < 0 || p.inliers > p.matches) {
+    throw std::invalid_argument("negative or inconsistent counts");
+  }
+  if (!(p.fitness >= 0 && p.fitness <= 1)) throw std::invalid_argument("fitness outside [0, 1]");
+  if (!(std::isfinite(p.inlier_rmse) && p.inlier_rmse >= 0) || !(std::isfinite(p.overlap_rmse) && p.overlap_rmse >= 0)) {
+    throw std::invalid_argument("an RMSE is negative or not finite");
+  }
   return p;
 }
 

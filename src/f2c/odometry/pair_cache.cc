@@ -43,7 +43,9 @@ bool PairCache::Lookup(const std::string& key, PairAlignment* pair) const {
   try {
     *pair = PairAlignmentFromJson(nlohmann::json::parse(it->second));
     return true;
-  } catch (const std::exception&) {
+  } catch (const std::exception& e) {
+    // Recomputed; said once per cache, not once per damaged entry.
+    if (!warned_.exchange(true)) spdlog::warn("{}: a cached pair is damaged ({}); recomputing it", path_.string(), e.what());
     return false;
   }
 }

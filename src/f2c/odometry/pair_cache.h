@@ -2,6 +2,7 @@
 // On-disk cache of pairwise alignments (JSON), keyed by a hash of everything a pair's
 // result depends on: both frames' file bytes, intrinsics, depth decoding, options.
 
+#include <atomic>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -31,6 +32,7 @@ class PairCache {
   uint64_t context_hash_ = 0;
   std::map<std::string, std::string> entries_;  // key -> serialised PairAlignment (JSON)
   bool dirty_ = false;
+  mutable std::atomic<bool> warned_{false};  // a damaged entry was reported
 };
 
 }  // namespace f2c

@@ -58,7 +58,7 @@ PairCost::PairCost(std::vector<PairConstraint> constraints, RobustLoss loss, dou
     offsets_.push_back(rows);
     rows += c.kind == ConstraintKind::kPointToPlane ? 1 : 3;
     EvaluateConstraint(c.kind, poses, c.target_point, c.target_direction, c.point, false, &r);
-    double rho, rho_prime;
+    double rho = 0, rho_prime = 0;
     EvaluateLoss(loss_, scale_, r.residual.head(r.rows).squaredNorm(), &rho, &rho_prime);
     sqrt_weights_.push_back(std::sqrt(c.weight * rho_prime));
   }
@@ -95,7 +95,7 @@ double PairCost::RobustCost(double const* const* parameters) const {
   double cost = 0;
   for (const PairConstraint& c : constraints_) {
     EvaluateConstraint(c.kind, poses, c.target_point, c.target_direction, c.point, false, &rows);
-    double rho, rho_prime;
+    double rho = 0, rho_prime = 0;
     EvaluateLoss(loss_, scale_, rows.residual.head(rows.rows).squaredNorm(), &rho, &rho_prime);
     cost += 0.5 * c.weight * rho;
   }

@@ -5,7 +5,8 @@
 namespace f2c {
 
 void ThrowInputError(const std::filesystem::path& path, const std::string& what) {
-  throw InputError(fmt::format("{}: {}", path.string(), what));
+  // An empty name (an option given as "") is said in words: "error: : ..." names nothing.
+  throw InputError(fmt::format("{}: {}", path.empty() ? std::string("(empty path)") : path.string(), what));
 }
 
 void ThrowInputError(const std::filesystem::path& path, int line, const std::string& what) {
@@ -13,7 +14,7 @@ void ThrowInputError(const std::filesystem::path& path, int line, const std::str
 }
 
 void CheckFailed(const char* file, int line, const char* condition, const std::string& message) {
-  throw std::logic_error(fmt::format("{}:{}: check '{}' failed: {}", file, line, condition, message));
+  throw InternalError(fmt::format("{}:{}: check '{}' failed: {}", file, line, condition, message));
 }
 
 }  // namespace f2c

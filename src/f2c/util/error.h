@@ -14,7 +14,13 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Throws InputError("<path>: <what>").
+// A broken invariant of our own (F2C_CHECK): a bug, never the user's input.
+class InternalError : public std::logic_error {
+ public:
+  using std::logic_error::logic_error;
+};
+
+// Throws InputError("<path>: <what>"); an empty path is written "(empty path)".
 [[noreturn]] void ThrowInputError(const std::filesystem::path& path, const std::string& what);
 // Throws InputError("<path>:<line>: <what>") for an error on a line of a text file.
 [[noreturn]] void ThrowInputError(const std::filesystem::path& path, int line,

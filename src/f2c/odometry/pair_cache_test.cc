@@ -1,0 +1,107 @@
+#include "f2c/odometry/pair_cache.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include "f2c/odometry/odometry.h"
+#include "f2c/testing/synthetic_scene.h"
+#include "f2c/util/file.h"
+
+namespace f2c {
+namespace {
+
+PairAlignment SomePair() {
+  PairAlignment p;
+  p.frame = 5, p.reference = 3, p.keyframe = true;
+  p.prev_from_curr.linear() = Eigen::AngleAxisd(0.1, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  p.prev_from_curr.translation() = Eigen::Vector3d(0.01, -0.02, 0.03);
+  p.method = AlignmentMethod::kIcp;
+  p.keypoints_prev = 300, p.keypoints_curr = 280, p.matches = 120, p.inliers = 100;
+  p.inlier_rmse = 0.004, p.fitness = 0.93, p.overlap_rmse = 0.006, p.degenerate = 1;
+  return p;
+}
+
+// The reason a damaged entry is refused (empty: accepted).
+std::string Refusal(const nlohmann::json& j) {
+  try {
+    PairAlignmentFromJson(j);
+    return "";
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+}
+
+TEST(PairAlignmentJson, RoundTripsEveryField) {
+  const PairAlignment a = SomePair();
+  const PairAlignment b = PairAlignmentFromJson(ToJson(a));
+  EXPECT_EQ(b.frame, 5);
+  EXPECT_EQ(b.reference, 3);
+  EXPECT_TRUE(b.keyframe);
+  EXPECT_TRUE(b.prev_from_curr.isApprox(a.prev_from_curr, 1e-15));
+  EXPECT_EQ(b.method, AlignmentMethod::kIcp);
+  EXPECT_EQ(b.matches, 120);
+  EXPECT_EQ(b.inliers, 100);
+  EXPECT_DOUBLE_EQ(b.fitness, 0.93);
+  EXPECT_EQ(b.degenerate, 1);
+  // Old caches have no reference: the previous frame.
+  nlohmann::json old = ToJson(a);
+  old.erase("reference");
+  EXPECT_EQ(PairAlignmentFromJson(old).Reference(), 4);
+}
+
+TEST(PairAlignmentJson, DamagedEntriesAreRefusedWithTheReason) {
+  auto with = [](const char* key, const nlohmann::json& value) {
+    nlohmann::json j = ToJson(SomePair());
+    j[key] = value;
+    return j;
+  };
+  std::vector<double> m = ToJson(SomePair())["prev_from_curr"].get<std::vector<double>>();
+  std::vector<double> scaled = m, sheared = m, far = m, bottom = m;
+  for (int i : {0, 5, 10}) scaled[i] *= 2;
+  sheared[1] += 0.3;
+  far[3] = 1e6;
+  bottom[12] = 1;
+  EXPECT_EQ(Refusal(with("prev_from_curr", scaled)), "prev_from_curr is not a rotation");
+  EXPECT_EQ(Refusal(with("prev_from_curr", sheared)), "prev_from_curr is not a rotation");
+  EXPECT_EQ(Refusal(with("prev_from_curr", far)), "prev_from_curr moves more than 100 m");
+  EXPECT_EQ(Refusal(with("prev_from_curr", bottom)), "prev_from_curr's last row is not 0 0 0 1");
+  EXPECT_EQ(Refusal(with("prev_from_curr", std::vector<double>(15, 0.0))), "prev_from_curr needs 16 numbers");
+  EXPECT_EQ(Refusal(with("reference", 7)), "reference must precede frame");
+  EXPECT_EQ(Refusal(with("method", "magic")), "unknown method magic");
+  EXPECT_EQ(Refusal(with("fitness", 1.5)), "fitness outside [0, 1]");
+  EXPECT_EQ(Refusal(with("inliers", 500)), "negative or inconsistent counts");
+  EXPECT_EQ(Refusal(with("inlier_rmse", -1)), "an RMSE is negative or not finite");
+  EXPECT_NE(Refusal(with("prev_from_curr", nullptr)), "");  // NaN is written as null
+  EXPECT_EQ(Refusal(ToJson(SomePair())), "");
+}
+
+TEST(PairCache, ADamagedEntryIsAMissAndTheOthersAreUsed) {
+  const auto dir = testing::FreshTempDir("pair_cache_damaged");
+  const auto path = dir / "cache.json";
+  {
+    PairCache cache(path, "context");
+    cache.Store("good", SomePair());
+    cache.Store("bad", SomePair());
+    cache.Save();
+  }
+  // Damage one entry as a disk or a hand edit could: a scaled matrix.
+  nlohmann::json j = nlohmann::json::parse(ReadFileToString(path));
+  j["pairs"]["bad"]["prev_from_curr"][0] = 3.0;
+  WriteFileAtomic(path, j.dump());
+  const PairCache cache(path, "context");
+  PairAlignment p;
+  EXPECT_TRUE(cache.Lookup("good", &p));
+  EXPECT_TRUE(p.prev_from_curr.isApprox(SomePair().prev_from_curr, 1e-15));
+  EXPECT_FALSE(cache.Lookup("bad", &p));
+  EXPECT_FALSE(cache.Lookup("absent", &p));
+  // A file that is not JSON, or of another version, is ignored as a whole.
+  WriteFileAtomic(path, "{not json");
+  EXPECT_FALSE(PairCache(path, "context").Lookup("good", &p));
+  WriteFileAtomic(path, R"({"version": 1, "pairs": {}})");
+  EXPECT_FALSE(PairCache(path, "context").Lookup("good", &p));
+}
+
+}  // namespace
+}  // namespace f2c
