@@ -92,6 +92,7 @@ std::string RegisterReport(const RgbdSequence& seq, const Odometry& odometry, co
                             frames / run["total_wall_s"].get<double>())},
       {"peak memory", fmt::format("{:.0f} MiB", run["peak_memory_bytes"].get<double>() / 1048576.0)},
   };
+  in.options_json = run["options"].dump(2);
   if (seq.ground_truth) {
     in.ground_truth = *seq.ground_truth;
     in.facts.emplace_back("ground truth", seq.ground_truth_source.string());

@@ -255,7 +255,7 @@ std::string SliceSection(const ReportInput& in, const std::vector<std::pair<cons
     p.x.label = p.y.label = "m";
     p.x.min = x0, p.x.max = x1, p.y.min = y0, p.y.max = y1;
     p.equal_aspect = true;
-    p.width = 440, p.height = 440;
+    p.width = 420, p.height = 420;
     PlotSeries dots{"", {}, {}, names[s].second, PlotSeries::Style::kDots, 1.2};
     CoordTable seen(4096);
     for (const auto& q : slices[s]) {
@@ -301,7 +301,12 @@ std::string BuildReport(const ReportInput& in) {
       EscapeXml(in.title));
   std::string facts = "<table>\n";
   for (const auto& [k, v] : in.facts) facts += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", EscapeXml(k), EscapeXml(v));
-  html += Section("Run", facts + "</table>\n");
+  if (!in.options_json.empty()) {
+    facts += "</table>\n<details><summary>Options (run.json)</summary><pre>" + EscapeXml(in.options_json) + "</pre></details>\n";
+  } else {
+    facts += "</table>\n";
+  }
+  html += Section("Run", facts);
 
   // Each estimate's poses, rigidly aligned to the truth where there is one (as for ATE), and
   // the true pose at each of its frames (nearest stamp within max_time_difference).
@@ -436,7 +441,25 @@ std::string BuildReport(const ReportInput& in) {
       for (const GapBin& b : BinByGap(rel)) sg.x.push_back(b.gap_lo), sg.y.push_back(b.median);
       gaps.series.push_back(sg);
     }
-    html += Section("Errors", "<div class=\"plots\">\n" + RenderSvg(translation) + RenderSvg(rotation) +
+    // The numbers `evaluate` prints, per estimate.
+    std::string stats =
+        "<table><tr><th>estimate</th><th>poses</th><th>ATE RMSE (m)</th><th>ATE median (m)</th><th>ATE max (m)</th>"
+        "<th>RPE/frame (m)</th><th>RPE/frame (deg)</th><th>RPE/s (m)</th><th>RPE/s (deg)</th>"
+        "<th>rotation drift RMS (deg)</th></tr>\n";
+    for (const Aligned& a : aligned) {
+      try {
+        const EvaluationResult r = Evaluate(a.estimate->trajectory, gt, eval_options);
+        stats += fmt::format(
+            "<tr><td>{}</td><td>{}</td><td>{:.4f}</td><td>{:.4f}</td><td>{:.4f}</td><td>{:.4f}</td><td>{:.3f}</td>"
+            "<td>{:.4f}</td><td>{:.3f}</td><td>{:.3f}</td></tr>\n",
+            EscapeXml(a.estimate->name), r.ate.translation.count, r.ate.translation.rmse, r.ate.translation.median,
+            r.ate.translation.max, r.rpe_per_frame.translation.rmse, r.rpe_per_frame.rotation.rmse,
+            r.rpe_per_second.translation.rmse, r.rpe_per_second.rotation.rmse, r.drift.rotation.rmse);
+      } catch (const std::exception& e) {
+        stats += fmt::format("<tr><td>{}</td><td colspan=\"9\">{}</td></tr>\n", EscapeXml(a.estimate->name), EscapeXml(e.what()));
+      }
+    }
+    html += Section("Errors", stats + "</table>\n<div class=\"plots\">\n" + RenderSvg(translation) + RenderSvg(rotation) +
                                   RenderSvg(gaps) + "</div>\n");
   }
 

@@ -40,6 +40,7 @@ struct ReportIteration {
 struct ReportInput {
   std::string title;
   std::vector<std::pair<std::string, std::string>> facts;  // shown as a two-column table
+  std::string options_json;  // every option of the run, shown folded under the facts (empty: none)
   std::optional<Trajectory> ground_truth;
   std::vector<ReportTrajectory> estimates;  // the last is the result; fallbacks are marked on it
   std::vector<double> fallback_times;       // frames aligned by ICP or the motion prior (time stamps)

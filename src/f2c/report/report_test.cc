@@ -64,7 +64,11 @@ TEST(BuildReport, EverySectionWithPlotsThatParse) {
     in.slice_frames.push_back(std::move(f));
   }
   const std::string html = BuildReport(in);
-  for (const char* s : {"<h2>Run</h2>", "<h2>Top-down slice of the registered points</h2>", "<h2>Trajectories</h2>", "<h2>Errors</h2>", "<h2>Correspondence errors</h2>",
+  in.options_json = R"({"refine": {"window_frames": 8}})";
+  const std::string html_with_options = BuildReport(in);
+  EXPECT_NE(html_with_options.find("<summary>Options (run.json)</summary><pre>{&quot;refine&quot;"), std::string::npos);
+  in.options_json.clear();
+  for (const char* s : {"<h2>Run</h2>", "<h2>Top-down slice of the registered points</h2>", "<th>ATE RMSE (m)</th>", "<h2>Trajectories</h2>", "<h2>Errors</h2>", "<h2>Correspondence errors</h2>",
                         "<h2>Refinement</h2>", ">E_P</text>", ">silhouette</text>",
                         "the paper&#39;s Fig. 9", "test &lt;run&gt;", ">ICP / motion prior<"}) {
     EXPECT_NE(html.find(s), std::string::npos) << s;
