@@ -12,6 +12,9 @@ RgbdSequence ReadSevenScenes(const std::filesystem::path& dir, const IoOptions& 
 RgbdSequence ReadRedwood(const std::filesystem::path& dir, const IoOptions& options);
 RgbdSequence ReadSun3d(const std::filesystem::path& dir, const IoOptions& options);
 
+// Open3D's PinholeCameraIntrinsic JSON: width, height, intrinsic_matrix (column-major 3x3).
+CameraIntrinsics ReadOpen3dIntrinsics(const std::filesystem::path& path);
+
 // Image files (.png, .jpg, .jpeg, .ppm, .pgm) directly in `dir`, sorted by name.
 std::vector<std::filesystem::path> ListImages(const std::filesystem::path& dir);
 

@@ -130,9 +130,6 @@ RgbdSequence ReadSevenScenes(const fs::path& dir, const IoOptions& options) {
   return seq;
 }
 
-namespace {
-
-// Open3D's PinholeCameraIntrinsic JSON: width, height, intrinsic_matrix (column-major 3x3).
 CameraIntrinsics ReadOpen3dIntrinsics(const fs::path& path) {
   nlohmann::json j;
   try {
@@ -149,12 +146,15 @@ CameraIntrinsics ReadOpen3dIntrinsics(const fs::path& path) {
     if (!v.is_number()) ThrowInputError(path, "'intrinsic_matrix' holds a non-number");
     m.push_back(v.get<double>());
   }
+  for (const char* key : {"width", "height"}) {
+    if (j.contains(key) && (!j[key].is_number_integer() || j[key].get<int64_t>() <= 0 || j[key].get<int64_t>() > 100000)) {
+      ThrowInputError(path, std::string("'") + key + "' must be a whole number of pixels (1 to 100000)");
+    }
+  }
   CameraIntrinsics k{m[0], m[4], m[6], m[7], j.value("width", 640), j.value("height", 480)};
   k.Validate(path.string());
   return k;
 }
-
-}  // namespace
 
 RgbdSequence ReadRedwood(const fs::path& dir, const IoOptions& options) {
   RgbdSequence seq;

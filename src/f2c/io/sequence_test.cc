@@ -251,5 +251,27 @@ TEST(ReadRedwood, CountMismatchAndDefaultIntrinsics) {
   EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir); }), dir.string() + ": 2 colour images in color but 3 depth images in depth/");
 }
 
+TEST(ReadRedwood, Open3dIntrinsicsJsonIsChecked) {
+  const fs::path dir = testing::FreshTempDir("redwood_json");
+  fs::create_directories(dir / "color");
+  fs::create_directories(dir / "depth");
+  cv::Mat color(480, 640, CV_8UC3, cv::Scalar(0)), depth(480, 640, CV_16U, cv::Scalar(1000));
+  cv::imwrite((dir / "color" / "00000.jpg").string(), color);
+  cv::imwrite((dir / "depth" / "00000.png").string(), depth);
+  const fs::path json = dir / "camera_intrinsic.json";
+  WriteFileAtomic(json, R"({"width": 640, "height": 480, "intrinsic_matrix": [500, 0, 0, 0, 510, 0, 320, 240, 1]})");
+  EXPECT_DOUBLE_EQ(ReadSequence(dir).intrinsics->fy, 510.0);
+  auto message = [&](const std::string& text) {
+    WriteFileAtomic(json, text);
+    return testing::InputErrorMessage([&] { ReadSequence(dir); });
+  };
+  EXPECT_EQ(message(R"({"width": "wide", "intrinsic_matrix": [500, 0, 0, 0, 510, 0, 320, 240, 1]})"),
+            json.string() + ": 'width' must be a whole number of pixels (1 to 100000)");
+  EXPECT_EQ(message(R"({"intrinsic_matrix": [500, 0, 0]})"),
+            json.string() + ": expected 'intrinsic_matrix' with 9 numbers (Open3D intrinsic JSON)");
+  EXPECT_EQ(message("[1, 2]"), json.string() + ": expected 'intrinsic_matrix' with 9 numbers (Open3D intrinsic JSON)");
+  EXPECT_EQ(message("{").rfind(json.string() + ": not valid JSON: ", 0), 0u);
+}
+
 }  // namespace
 }  // namespace f2c
