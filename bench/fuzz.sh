@@ -33,7 +33,7 @@ run() {  # target
   (cd "$dir" && "$OLDPWD/build-fuzz/tests/fuzz/$t" corpus -max_total_time="$seconds" -max_len="$max_len" \
     -timeout=10 -rss_limit_mb=4096 -print_final_stats=1 > log.txt 2>&1) || true
   local execs cov units findings
-  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$dir/log.txt" | grep -o '[0-9]*$' || echo "?")
+  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$dir/log.txt" | tail -1 | grep -o '[0-9]*$' || echo "?")
   cov=$(grep -o 'cov: [0-9]*' "$dir/log.txt" | tail -1 | grep -o '[0-9]*' || echo "?")
   units=$(ls "$dir/corpus" | wc -l)
   findings=$(ls "$dir" | grep -cE '^(crash|leak|timeout|oom)-' || true)

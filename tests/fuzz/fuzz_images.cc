@@ -7,7 +7,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const auto path = f2c::fuzz::WriteInput("image", {reinterpret_cast<const char*>(data), size});
-  for (int flags : {cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR, cv::IMREAD_COLOR, cv::IMREAD_GRAYSCALE}) {
+  const int all_flags[] = {cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR, cv::IMREAD_COLOR, cv::IMREAD_GRAYSCALE};
+  for (int flags : all_flags) {
     f2c::fuzz::Expect([&] { f2c::DecodeImageFile(path, flags); });
   }
   return 0;

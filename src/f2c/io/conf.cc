@@ -37,6 +37,7 @@ ConfFile ReadConf(const fs::path& path, double assumed_fps) {
   bool have_dataset = false;
   for (const TextLine& line : ReadDataLines(path)) {
     const auto tokens = SplitWhitespace(line.text);
+    if (tokens.empty()) continue;  // ReadDataLines keeps none such; a reader must not trust that
     const std::string& key = tokens[0];
     auto need = [&](size_t n, const char* what) {
       if (tokens.size() != n) {

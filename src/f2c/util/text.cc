@@ -18,7 +18,8 @@ std::vector<TextLine> ReadDataLines(const std::filesystem::path& path) {
   while (std::getline(in, text)) {
     ++number;
     if (!text.empty() && text.back() == '\r') text.pop_back();
-    const size_t first = text.find_first_not_of(" \t");
+    // The same whitespace as SplitWhitespace (isspace), so a kept line always has a token.
+    const size_t first = text.find_first_not_of(" \t\r\n\v\f");
     if (first == std::string::npos || text[first] == '#') continue;
     lines.push_back({number, text});
   }

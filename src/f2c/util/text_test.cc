@@ -35,6 +35,12 @@ TEST(ReadDataLines, SkipsCommentsAndKeepsLineNumbers) {
   EXPECT_EQ(lines[0].number, 3);
   EXPECT_EQ(lines[0].text, "1 2");
   EXPECT_EQ(lines[1].number, 5);
+  // Lines of only carriage returns, vertical tabs or form feeds hold no token: skipped too
+  // (a .conf line like this once indexed an empty token list; found by fuzz_trajectory).
+  WriteFileAtomic(path, "1\n\r\r\r\n\v\f \n2\n");
+  const auto blank = ReadDataLines(path);
+  ASSERT_EQ(blank.size(), 2u);
+  for (const TextLine& line : blank) EXPECT_FALSE(SplitWhitespace(line.text).empty());
 }
 
 TEST(ParseDoublesOrThrow, NamesFileLineAndToken) {
