@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <string_view>
 #include <tuple>
 #include <vector>
 #include <opencv2/imgcodecs.hpp>
@@ -21,6 +22,17 @@ PngRequest AsPngRequest(int flags) {
   return PngRequest::kUnchanged;  // cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR
 }
 
+// PNG, JPEG, PNM (P1-P6), TIFF or BMP, by their first bytes. OpenCV picks its decoder by its
+// own signature checks, in its own order; every other format's signature sits at the start of
+// the file (so it cannot also match one of these) except DICOM's, "DICM" at byte 128, which
+// OpenCV tries first: such files are refused too.
+bool LooksLikeRgbdImage(std::string_view b) {
+  if (b.size() >= 132 && b.substr(128, 4) == "DICM") return false;
+  auto starts = [&](std::string_view prefix) { return b.substr(0, prefix.size()) == prefix; };
+  return starts("\x89PNG") || starts("\xff\xd8") || (b.size() >= 2 && b[0] == 'P' && b[1] >= '1' && b[1] <= '6') ||
+         starts(std::string_view("II*\0", 4)) || starts(std::string_view("MM\0*", 4)) || starts("BM");
+}
+
 }  // namespace
 
 cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags) {
@@ -34,6 +46,10 @@ cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags) {
   }
   if (status == DecodeStatus::kDecoded) return image;
   if (status == DecodeStatus::kCorrupt) ThrowInputError(path, problem);
+  // OpenCV only for the kinds RGB-D recordings come in: its other decoders (DICOM, JPEG 2000,
+  // OpenEXR, ...) are never needed here, and a damaged file can abort inside them (found by
+  // fuzz_images: gdcm's assertion on bytes that looked like DICOM).
+  if (!LooksLikeRgbdImage(bytes)) ThrowInputError(path, "cannot decode image (corrupt or not an image)");
   try {
     image = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), flags);
   } catch (const cv::Exception&) {

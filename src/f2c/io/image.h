@@ -8,8 +8,9 @@
 
 namespace f2c {
 
-// Any image file as OpenCV's imread `flags` ask, through our PNG and JPEG paths first: a
-// missing, damaged or oversized (over 32 megapixels) file is an InputError naming it.
+// An image file as OpenCV's imread `flags` ask, through our PNG and JPEG paths first, then
+// OpenCV for PNM, TIFF and BMP (and PNG/JPEG kinds ours leave to it); other formats are
+// refused. A missing, damaged or oversized (over 32 megapixels) file is an InputError naming it.
 cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags);
 
 // Depth in metres (CV_32F); invalid pixels are 0. Checks: the file decodes, is 16-bit single

@@ -59,6 +59,15 @@ TEST(LoadDepthMeters, CorruptAndMissingFiles) {
   WriteFileAtomic(f.frame.depth_path, "GIF89a, not an image we read");
   EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(f.seq, f.frame); }),
             f.frame.depth_path.string() + ": cannot decode image (corrupt or not an image)");
+  // A damaged DICOM file: OpenCV's DICOM decoder would abort the program (fuzz_images); only
+  // the formats RGB-D recordings use reach OpenCV.
+  WriteFileAtomic(f.frame.depth_path, std::string(128, '\xb8') + "DICM" + std::string(64, '\xff'));
+  EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(f.seq, f.frame); }),
+            f.frame.depth_path.string() + ": cannot decode image (corrupt or not an image)");
+  // ... also when it starts like a PNM image, since OpenCV tries DICOM first.
+  WriteFileAtomic(f.frame.depth_path, "P5" + std::string(126, '\xb8') + "DICM" + std::string(64, '\xff'));
+  EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(f.seq, f.frame); }),
+            f.frame.depth_path.string() + ": cannot decode image (corrupt or not an image)");
   // A cut-short PNG, and a cut-short JPEG (libjpeg alone would only warn and grey the rest).
   std::vector<uchar> png;
   cv::imencode(".png", cv::Mat(480, 640, CV_16U, cv::Scalar(2000)), png);
