@@ -137,9 +137,12 @@ int RunEvaluate(const EvaluateArgs& args) {
     if (corr) in.facts.emplace_back("correspondences", fmt::format("RMSE {:.4f} m over {}", corr->distance.rmse,
                                                                     corr->distance.count));
     in.ground_truth = gt;
-    static const char* kColors[] = {"#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
-    for (size_t i = 0; i < also.size(); ++i) in.estimates.push_back({also[i].first, also[i].second, kColors[i % 7]});
-    in.estimates.push_back({args.name, est, "#1f77b4"});  // last: the one the page is about
+    // The estimate in the palette's first colour, the others in the rest; the estimate last:
+    // the page is about it.
+    for (size_t i = 0; i < also.size(); ++i) {
+      in.estimates.push_back({also[i].first, also[i].second, SeriesColor(1 + static_cast<int>(i % 7))});
+    }
+    in.estimates.push_back({args.name, est, SeriesColor(0)});
     in.max_time_difference = args.max_time_difference;
     if (!correspondence_file.empty() && !frame_timestamps.empty()) {
       in.correspondences = ReadCorrespondences(correspondence_file);
@@ -148,12 +151,9 @@ int RunEvaluate(const EvaluateArgs& args) {
     if (dataset && dataset->intrinsics) {
       AddSliceFrames(*dataset, 150, &in);
     } else {
-      in.extra_html = "<section><h2>Top-down slice of the registered points</h2>\n<p class=\"note\">" +
-                      EscapeXml(dataset ? "The dataset has no intrinsics (TUM folders carry none): pass --intrinsics "
-                                          "to draw the slice."
-                                        : "--ground-truth is a trajectory file: give the dataset folder to draw "
-                                          "the slice.") +
-                      "</p></section>\n";
+      in.no_slice_reason = dataset ? "The dataset has no intrinsics (TUM folders carry none): pass --intrinsics to "
+                                     "draw the slice."
+                                   : "--ground-truth is a trajectory file: give the dataset folder to draw the slice.";
     }
     WriteFileAtomic(args.report, BuildReport(in));
   }

@@ -70,7 +70,6 @@ std::string Note(const std::string& text) { return fmt::format("<p class=\"note\
 template <typename T>
 std::vector<PlotSeries> ByName(const std::vector<ReportIteration>& its,
                                std::vector<std::pair<std::string, T>> ReportIteration::*field) {
-  static const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
   std::vector<std::string> names;
   for (const ReportIteration& it : its) {
     for (const auto& [name, value] : it.*field) {
@@ -79,7 +78,7 @@ std::vector<PlotSeries> ByName(const std::vector<ReportIteration>& its,
   }
   std::vector<PlotSeries> series;
   for (size_t n = 0; n < names.size(); ++n) {
-    PlotSeries s{names[n], {}, {}, kColors[n % 8], PlotSeries::Style::kLine, 2};
+    PlotSeries s{names[n], {}, {}, SeriesColor(static_cast<int>(n)), PlotSeries::Style::kLine, 2};
     for (size_t i = 0; i < its.size(); ++i) {
       double v = std::numeric_limits<double>::quiet_NaN();
       for (const auto& [name, value] : its[i].*field) {
@@ -178,8 +177,6 @@ std::string View3d(const ReportInput& in) {
                      in.up.x(), in.up.y(), in.up.z());
 }
 
-}  // namespace
-
 // The slice from above under each set of poses, on shared axes: x along the result's slice
 // points' main direction, y across it; one dot per occupied cell of a 1/500-extent grid.
 std::string SliceSection(const ReportInput& in, const std::vector<std::pair<const ReportTrajectory*, Rigid3d>>& estimates) {
@@ -275,6 +272,8 @@ std::string SliceSection(const ReportInput& in, const std::vector<std::pair<cons
                           in.slice_frames.size(), 0.5 * band.thickness, band.height,
                           in.ground_truth ? "; each estimate rigidly aligned to the ground truth by its poses (positions and axes)" : ""));
 }
+
+}  // namespace
 
 std::string Base64(const std::string& bytes) {
   static const char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -396,6 +395,8 @@ std::string BuildReport(const ReportInput& in) {
     std::vector<std::pair<const ReportTrajectory*, Rigid3d>> estimates;
     for (const Aligned& a : aligned) estimates.emplace_back(a.estimate, a.gt_from_estimate);
     html += Section("Top-down slice of the registered points", SliceSection(in, estimates));
+  } else if (!in.no_slice_reason.empty()) {
+    html += Section("Top-down slice of the registered points", Note(in.no_slice_reason));
   }
 
   if (!in.ground_truth) {

@@ -62,6 +62,7 @@ struct ReportInput {
   std::vector<double> slice_timestamps;
   std::vector<SliceFrame> slice_frames;
   SliceOptions slice_options;
+  std::string no_slice_reason;  // said in the slice's place when there are no slice frames
   std::string extra_html;                   // appended as is (pictures, further tables)
 };
 

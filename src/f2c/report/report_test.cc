@@ -92,6 +92,10 @@ TEST(BuildReport, EverySectionWithPlotsThatParse) {
   const std::string b = BuildReport(bare);
   EXPECT_NE(b.find("No ground truth in this dataset"), std::string::npos);
   EXPECT_NE(b.find("No ground-truth correspondences"), std::string::npos);
+  EXPECT_EQ(b.find("<h2>Top-down slice"), std::string::npos);  // no frames, no reason: no section
+  bare.no_slice_reason = "pass --intrinsics";
+  EXPECT_NE(BuildReport(bare).find("<h2>Top-down slice of the registered points</h2>\n<p class=\"note\">pass --intrinsics</p>"),
+            std::string::npos);
 }
 
 }  // namespace

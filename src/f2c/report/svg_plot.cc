@@ -105,6 +105,11 @@ void Range(const Plot& plot, bool x_axis, double* lo, double* hi) {
 
 }  // namespace
 
+const char* SeriesColor(int i) {
+  static const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
+  return kColors[((i % 8) + 8) % 8];
+}
+
 std::string RenderSvg(const Plot& plot) {
   const double left = 64, right = 16, top = plot.title.empty() ? 16 : 34, bottom = 46;
   const double w = plot.width - left - right, h = plot.height - top - bottom;

@@ -43,6 +43,10 @@ std::string RenderSvg(const Plot& plot);
 std::vector<double> LinearTicks(double lo, double hi, int target = 6);
 std::vector<double> LogTicks(double lo, double hi);
 
+// The i-th colour of the plots' palette (8 colours, repeating): the series of one plot, the
+// estimates of one report.
+const char* SeriesColor(int i);
+
 // Text safe inside XML/HTML (& < > " ').
 std::string EscapeXml(const std::string& text);
 
