@@ -53,6 +53,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     app.exit(e);
     return 2;
+  } catch (const f2c::InputError& e) {  // a value a flag cannot take (an unknown enum name)
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
   }
   // The contract, enforced here: whatever a user feeds in ends in exit 0, 1 (one line,
   // "error: <file>: <what>") or 2 (usage). A filesystem error names the path the system

@@ -14,11 +14,13 @@
 
 #include "apps/commands.h"
 #include "apps/common.h"
+#include "apps/fields_cli.h"
 #include "apps/refine_options.h"
 #include "apps/run_report.h"
 #include "f2c/features/feature_set.h"
 #include "f2c/io/conf.h"
 #include "f2c/util/error.h"
+#include "f2c/util/fields_json.h"
 #include "f2c/util/file.h"
 #include "f2c/util/memory.h"
 #include "f2c/util/timer.h"
@@ -60,7 +62,7 @@ json PairStatistics(const std::vector<PairAlignment>& pairs) {
 }
 
 struct RegisterFlags {
-  bool no_icp = false, no_cache = false, no_features = false, no_mesh = false, no_report = false;
+  bool no_cache = false, no_features = false, no_mesh = false, no_report = false;
   std::string stop_after = "refine";
 };
 
@@ -229,9 +231,9 @@ int RunRegister(const RegisterArgs& args) {
       {"versions", Versions()},
       {"options",
        {{"io", ToJson(args.io)},
-        {"odometry", ToJson(args.odometry)},
+        {"odometry", FieldsToJson(args.odometry)},
         {"features", args.extract_features ? ToJson(args.features) : json(nullptr)},
-        {"refine", index ? ToJson(args.refine) : json(nullptr)},
+        {"refine", index ? FieldsToJson(args.refine) : json(nullptr)},
         {"fusion", args.fuse_mesh ? ToJson(args.fusion) : json(nullptr)},
         {"cache", args.use_cache}}},
       {"stages",
@@ -271,83 +273,7 @@ Subcommand AddRegisterCommand(CLI::App* app) {
       ->required();
   cmd->add_option("-o,--output", args->output, "output folder")->required();
   AddFrameSelection(cmd, &args->io);
-  auto& od = args->odometry;
-  cmd->add_option("--seed", od.seed, "seed of all random choices")->capture_default_str();
-  cmd->add_option("--min-depth", od.sift.min_depth, "nearest valid depth (m)")->capture_default_str();
-  cmd->add_option("--max-depth", od.sift.max_depth, "farthest valid depth (m)")->capture_default_str();
-  cmd->add_option("--sift-downscale", od.sift.downscale,
-                      "detect SIFT on the colour image shrunk by this factor (faster, coarser)")
-      ->capture_default_str();
-  cmd->add_option("--ratio", od.ratio, "SIFT ratio test")->capture_default_str();
-  cmd->add_option("--relaxed-ratio", od.relaxed_ratio, "ratio used when few matches pass")
-      ->capture_default_str();
-  cmd->add_option("--ransac-threshold", od.ransac.inlier_threshold, "RANSAC inlier distance (m)")
-      ->capture_default_str();
-  cmd->add_option("--ransac-iterations", od.ransac.max_iterations, "RANSAC iteration cap")
-      ->capture_default_str();
-  cmd->add_option("--robust-scale", od.ransac.robust_scale,
-                      "Cauchy scale (m) of the final reweighted refit on RANSAC inliers (0: off)")
-      ->capture_default_str();
-  cmd->add_option("--ransac-anisotropic", od.ransac.anisotropic_iterations,
-                  "Gauss-Newton steps of a ray-aware (depth noise along the ray) refit after RANSAC; 0: off "
-                  "(better on the simulator, worse on real sensors: BENCHMARKS.md)")
-      ->capture_default_str();
-  cmd->add_option("--min-fitness", od.min_fitness,
-                      "SIFT answers whose depth overlap is lower are checked against ICP")
-      ->capture_default_str();
-  cmd->add_option("--min-inliers", od.min_inliers, "fewer SIFT inliers fall back to ICP")
-      ->capture_default_str();
-  auto& kf = od.keyframes;
-  const std::string kg = "Keyframe odometry";
-  cmd->add_option("--keyframes", kf.enabled,
-                  "on: align each frame to the current keyframe by tracking its SIFT keypoints; off: consecutive "
-                  "pairs, SIFT on every frame")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, bool>{{"on", true}, {"off", false}}))
-      ->default_str("on")
-      ->group(kg);
-  cmd->add_option("--keyframe-translation", kf.max_translation, "a frame this far (m) from its keyframe starts one")
-      ->capture_default_str()
-      ->group(kg);
-  cmd->add_option("--keyframe-rotation", kf.max_rotation_deg, "a frame turned this far (deg) from its keyframe starts one")
-      ->capture_default_str()
-      ->group(kg);
-  cmd->add_option("--keyframe-overlap", kf.min_overlap, "depth overlap with the keyframe below this starts one")
-      ->capture_default_str()
-      ->group(kg);
-  cmd->add_option("--keyframe-inlier-share", kf.min_inlier_share,
-                  "tracked inliers below this share of the keyframe's keypoints start one")
-      ->capture_default_str()
-      ->group(kg);
-  cmd->add_option("--keyframe-max-interval", kf.max_interval, "frames after which a new keyframe starts (0: no limit)")
-      ->capture_default_str()
-      ->group(kg);
-  cmd->add_option("--icp-to-keyframe", kf.icp_to_keyframe,
-                  "frames without texture: depth ICP against the keyframe first (on), or against the previous frame (off)")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, bool>{{"on", true}, {"off", false}}))
-      ->default_str(kf.icp_to_keyframe ? "on" : "off")
-      ->group(kg);
-  cmd->add_option("--velocity-frames", kf.velocity_frames, "the motion prior is the mean motion over this many frames")
-      ->capture_default_str()
-      ->group(kg);
-  cmd->add_option("--icp-downscale", od.icp.downscale, "depth ICP on the depth images shrunk by this factor")
-      ->capture_default_str()
-      ->group(kg);
-  cmd->add_option("--icp-prior", od.icp.prior_information,
-                  "ICP keeps lambda / (lambda + this) of its motion along each direction the depth constrains by "
-                  "lambda, the motion prior the rest (0: ICP alone)")
-      ->capture_default_str()
-      ->group(kg);
-  cmd->add_option("--track-min-inliers", kf.min_inliers, "fewer tracked inliers: SIFT against the keyframe instead")
-      ->capture_default_str()
-      ->group(kg);
-  cmd->add_option("--track-window", kf.track.window, "Lucas-Kanade window (pixels, odd)")->capture_default_str()->group(kg);
-  cmd->add_option("--track-levels", kf.track.pyramid_levels, "Lucas-Kanade pyramid levels above the image")
-      ->capture_default_str()
-      ->group(kg);
-  cmd->add_option("--track-forward-backward", kf.track.max_forward_backward,
-                  "drop tracks that do not return within this many pixels (0: no check)")
-      ->capture_default_str()
-      ->group(kg);
+  AddFieldFlags(cmd, &args->odometry);  // odometry/odometry.h
   AddFeatureOptions(cmd, &args->features);
   auto flags = std::make_shared<RegisterFlags>();
   cmd->add_option("--stop-after", flags->stop_after,
@@ -364,7 +290,6 @@ Subcommand AddRegisterCommand(CLI::App* app) {
   cmd->add_flag("--no-mesh", flags->no_mesh, "do not fuse the frames into OUTDIR/mesh.ply");
   cmd->add_flag("--no-report", flags->no_report, "do not write OUTDIR/report.html");
   cmd->add_flag("--no-features", flags->no_features, "skip the feature extraction, and so the refinement (T0 only)");
-  cmd->add_flag("--no-icp-fallback", flags->no_icp, "never use depth-only ICP");
   cmd->add_flag("--no-cache", flags->no_cache, "ignore and do not write OUTDIR/cache");
   cmd->add_option("--threads", args->threads, "worker threads (0: all cores; results are the same for any)")
       ->check(CLI::NonNegativeNumber)
@@ -388,7 +313,6 @@ Subcommand AddRegisterCommand(CLI::App* app) {
     args->fuse_mesh = !flags->no_mesh && flags->stop_after != "odometry";
     args->write_report = !flags->no_report;
     if (args->fuse_mesh) args->fusion.Check();
-    args->odometry.icp_fallback = !flags->no_icp;
     args->extract_features = !flags->no_features;
     args->use_cache = !flags->no_cache;
     if (args->quiet) spdlog::set_level(spdlog::level::warn);

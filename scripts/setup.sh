@@ -3,6 +3,7 @@
 # Idempotent: packages already present are skipped, so a second run costs a few seconds.
 # --peers also installs what bench/run_benchmarks.sh needs to run Open3D's reconstruction
 # system beside us (python3-open3d, python3-joblib); the build and the tests do not need it.
+# clang, libclang-rt-14-dev: the sanitizer build and the libFuzzer targets (scripts/test_sanitized.sh).
 # libopenblas0-pthread: CHOLMOD (Ceres) then uses OpenBLAS instead of the reference BLAS
 # or ATLAS; the refinement solves faster (BENCHMARKS.md).
 set -euo pipefail
@@ -13,6 +14,7 @@ packages=(
   libdeflate-dev libturbojpeg0-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev libtinyxml2-dev
   libjs-three chromium
+  clang libclang-rt-14-dev
 )
 [ "${1:-}" = "--peers" ] && packages+=(python3-open3d python3-joblib)
 

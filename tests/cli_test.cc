@@ -353,9 +353,9 @@ TEST(Cli, StructureAddsTheHierarchyAndItsTermsToEachIteration) {
   EXPECT_EQ(plain["hierarchy"]["children"].get<int>(), 0);
   EXPECT_FALSE(plain["solve"]["cost_after"].contains("E_P"));
   EXPECT_EQ(RunCli(base + "--weight-schedule linear -o " + (out / "bad").string()).output,
-            "error: --weight-schedule: unknown schedule 'linear' (constant, authors)\n");
+            "error: --weight-schedule: unknown value 'linear' (constant, authors)\n");
   EXPECT_EQ(RunCli(base + "--structure --coplanar-angle 95 -o " + (out / "bad").string()).output,
-            "error: --coplanar-angle: must be in (0, 90) degrees\n");
+            "error: --coplanar-angle: must be in (0, 90), got 95\n");
   EXPECT_FALSE(fs::exists(out / "bad"));
 }
 
@@ -367,7 +367,7 @@ TEST(Cli, BadRefinementOptionFailsBeforeAnyWork) {
   EXPECT_EQ(r.output, "error: --window-frames: must be >= 2, got 1\n");
   EXPECT_FALSE(fs::exists(out));
   EXPECT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --windows time -o " + out.string()).output,
-            "error: --windows: unknown window mode 'time' (frames, path)\n");
+            "error: --windows: unknown value 'time' (frames, path)\n");
 }
 
 TEST(Cli, FeaturesWritesTheCacheImagesAndPointSetsAndReusesTheCache) {

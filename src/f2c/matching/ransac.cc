@@ -10,17 +10,8 @@
 namespace f2c {
 
 void RansacOptions::Check() const {
-  if (!(inlier_threshold > 0)) ThrowInputError("ransac.inlier_threshold", "must be positive");
-  if (max_iterations < 1) ThrowInputError("ransac.max_iterations", "must be >= 1");
-  if (!(confidence > 0 && confidence < 1)) ThrowInputError("ransac.confidence", "must be in (0, 1)");
-  if (refit_rounds < 0) ThrowInputError("ransac.refit_rounds", "must be >= 0");
-  if (!(robust_scale >= 0)) ThrowInputError("ransac.robust_scale", "must be >= 0");
-  if (robust_iterations < 0) ThrowInputError("ransac.robust_iterations", "must be >= 0");
-  if (anisotropic_iterations < 0) ThrowInputError("ransac.anisotropic_iterations", "must be >= 0");
-  if (!(bearing_sigma > 0) || !(depth_noise_a >= 0) || !(depth_noise_b >= 0) || !(depth_noise_a + depth_noise_b > 0)) {
-    ThrowInputError("ransac noise model", "bearing_sigma must be positive, depth_noise_a/b >= 0 and not both 0");
-  }
-  if (!(anisotropic_scale > 0)) ThrowInputError("ransac.anisotropic_scale", "must be positive");
+  CheckFields(*this);
+  if (!(depth_noise_a + depth_noise_b > 0)) ThrowInputError("depth_noise_a", "and depth_noise_b must not both be 0");
 }
 
 Rigid3d FitRigid(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "f2c/geometry/rigid.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -35,6 +36,25 @@ struct RansacOptions {
   double depth_noise_b = 0.0019;  // 1 / metre
   double anisotropic_scale = 3.0;
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Odometry (T0)");
+    F2C_FIELD(v, inlier_threshold, "--ransac-threshold", Positive(), "RANSAC inlier distance (m)");
+    F2C_FIELD(v, max_iterations, "--ransac-iterations", AtLeast(1), "RANSAC iteration cap");
+    v.Field(confidence, "confidence", "", Bounds{.min = 0, .max = 1, .min_open = true, .max_open = true},
+            "stop once a sample this likely all-inlier was drawn");
+    F2C_FIELD(v, refit_rounds, "", AtLeast(0), "refit on inliers this many times");
+    F2C_FIELD(v, robust_scale, "--robust-scale", AtLeast(0),
+              "Cauchy scale (m) of the final reweighted refit on RANSAC inliers (0: off)");
+    F2C_FIELD(v, robust_iterations, "", AtLeast(0), "iterations of that refit");
+    F2C_FIELD(v, anisotropic_iterations, "--ransac-anisotropic", AtLeast(0),
+              "Gauss-Newton steps of a ray-aware (depth noise along the ray) refit after RANSAC; 0: off "
+              "(better on the simulator, worse on real sensors: BENCHMARKS.md)");
+    F2C_FIELD(v, bearing_sigma, "", Positive(), "keypoint direction noise (rad)");
+    F2C_FIELD(v, depth_noise_a, "", AtLeast(0), "depth noise a + b z^2: a (m)");
+    F2C_FIELD(v, depth_noise_b, "", AtLeast(0), "...b (1/m)");
+    F2C_FIELD(v, anisotropic_scale, "", Positive(), "Cauchy scale of the ray-aware refit (Mahalanobis)");
+  }
   void Check() const;
 };
 

@@ -12,16 +12,10 @@
 namespace f2c {
 
 void SiftOptions::Check() const {
-  if (max_features < 0) ThrowInputError("sift.max_features", "must be >= 0");
-  if (octave_layers < 1) ThrowInputError("sift.octave_layers", "must be >= 1");
-  if (!(contrast_threshold > 0)) ThrowInputError("sift.contrast_threshold", "must be positive");
-  if (!(edge_threshold > 0)) ThrowInputError("sift.edge_threshold", "must be positive");
-  if (!(sigma > 0)) ThrowInputError("sift.sigma", "must be positive");
-  if (downscale < 1 || downscale > 8) ThrowInputError("--sift-downscale", fmt::format("must be in 1..8, got {}", downscale));
-  if (!(min_depth >= 0 && max_depth > min_depth)) {
-    ThrowInputError("depth range", fmt::format("need 0 <= min < max, got {}..{}", min_depth, max_depth));
+  CheckFields(*this);
+  if (!(max_depth > min_depth)) {
+    ThrowInputError("--max-depth", fmt::format("must be greater than --min-depth ({}), got {}", min_depth, max_depth));
   }
-  if (!(max_depth_spread > 0)) ThrowInputError("sift.max_depth_spread", "must be positive");
 }
 
 SiftFeatures ExtractSiftWithDepth(const cv::Mat& gray, const cv::Mat& depth,

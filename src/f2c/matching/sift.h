@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "f2c/geometry/intrinsics.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -31,6 +32,20 @@ struct SiftOptions {
   // neighbourhood's depths spread by more than this fraction of the centre depth.
   double max_depth_spread = 0.05;
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Odometry (T0)");
+    F2C_FIELD(v, max_features, "", AtLeast(0), "SIFT keypoints kept (0: all)");
+    F2C_FIELD(v, octave_layers, "", AtLeast(1), "OpenCV SIFT octave layers");
+    F2C_FIELD(v, contrast_threshold, "", Positive(), "OpenCV SIFT contrast threshold");
+    F2C_FIELD(v, edge_threshold, "", Positive(), "OpenCV SIFT edge threshold");
+    F2C_FIELD(v, sigma, "", Positive(), "OpenCV SIFT sigma");
+    F2C_FIELD(v, downscale, "--sift-downscale", Between(1, 8),
+              "detect SIFT on the colour image shrunk by this factor (faster, coarser)");
+    F2C_FIELD(v, min_depth, "--min-depth", AtLeast(0), "nearest valid depth (m)");
+    F2C_FIELD(v, max_depth, "--max-depth", Positive(), "farthest valid depth (m)");
+    F2C_FIELD(v, max_depth_spread, "", Positive(), "keypoints on depth edges: largest 3x3 depth spread (share of depth)");
+  }
   void Check() const;  // InputError naming the field when out of range
 };
 

@@ -10,14 +10,12 @@
 namespace f2c {
 
 void IcpOptions::Check() const {
-  if (!(min_depth >= 0 && max_depth > min_depth)) ThrowInputError("icp depth range", "need 0 <= min < max");
-  if (!(max_depth_difference > 0)) ThrowInputError("icp.max_depth_difference", "must be positive");
-  if (!(max_points_part > 0 && max_points_part <= 1)) ThrowInputError("icp.max_points_part", "must be in (0, 1]");
-  if (iterations.empty()) ThrowInputError("icp.iterations", "needs at least one pyramid level");
-  if (downscale < 1 || downscale > 8) ThrowInputError("--icp-downscale", "must be in 1..8");
-  if (!(max_translation > 0) || !(max_rotation_deg > 0)) ThrowInputError("icp limits", "must be positive");
-  if (!(prior_information >= 0)) ThrowInputError("--icp-prior", "must be >= 0");
-  if (degeneracy_stride < 1) ThrowInputError("icp.degeneracy_stride", "must be >= 1");
+  CheckFields(*this);
+  if (!(max_depth > min_depth)) ThrowInputError("max_depth", fmt::format("must exceed min_depth ({}), got {}", min_depth, max_depth));
+  if (iterations.empty()) ThrowInputError("iterations", "needs at least one pyramid level");
+  for (int n : iterations) {
+    if (n < 1) ThrowInputError("iterations", fmt::format("must be >= 1 per level, got {}", n));
+  }
 }
 
 bool AlignDepthIcp(const cv::Mat& full_source_depth, const cv::Mat& full_target_depth,

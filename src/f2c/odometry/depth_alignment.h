@@ -8,6 +8,7 @@
 
 #include "f2c/geometry/intrinsics.h"
 #include "f2c/geometry/rigid.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -31,6 +32,22 @@ struct IcpOptions {
   double prior_information = 0.01;
   int degeneracy_stride = 8;  // pixels between the reference depth samples it looks at
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Keyframe odometry");
+    F2C_FIELD(v, min_depth, "", AtLeast(0), "ICP: nearest depth used (m)");
+    F2C_FIELD(v, max_depth, "", Positive(), "ICP: farthest depth used (m)");
+    F2C_FIELD(v, max_depth_difference, "", Positive(), "ICP: correspondences farther apart are dropped (m)");
+    F2C_FIELD(v, max_points_part, "", AboveUpTo(0, 1), "ICP: share of pixels sampled per level");
+    F2C_FIELD(v, iterations, "", {}, "ICP iterations per pyramid level, fine to coarse");
+    F2C_FIELD(v, downscale, "--icp-downscale", Between(1, 8), "depth ICP on the depth images shrunk by this factor");
+    F2C_FIELD(v, max_translation, "", Positive(), "ICP answers moving farther are rejected (m)");
+    F2C_FIELD(v, max_rotation_deg, "", Positive(), "...or turning farther (deg)");
+    F2C_FIELD(v, prior_information, "--icp-prior", AtLeast(0),
+              "ICP keeps lambda / (lambda + this) of its motion along each direction the depth constrains by "
+              "lambda, the motion prior the rest (0: ICP alone)");
+    F2C_FIELD(v, degeneracy_stride, "", AtLeast(1), "pixels between the depth samples of the degeneracy check");
+  }
   void Check() const;
 };
 

@@ -14,6 +14,7 @@
 #include "f2c/odometry/odometry_internal.h"
 #include "f2c/odometry/pair_cache.h"
 #include "f2c/util/error.h"
+#include "f2c/util/fields_json.h"
 #include "f2c/util/file.h"
 #include "f2c/util/progress.h"
 #include "f2c/util/timer.h"
@@ -201,7 +202,7 @@ Odometry AlignWithKeyframes(const RgbdSequence& seq, const OdometryOptions& opti
 
   // Cache: frame k's pair is keyed by a hash chained over frames 0..k, so a hit means every
   // decision before it was taken on the same frames. The cached prefix ends at the first miss.
-  PairCache cache(run.cache_file, CacheContext(seq, ToJson(options).dump()));
+  PairCache cache(run.cache_file, CacheContext(seq, FieldsToJson(options).dump()));
   std::vector<std::string> keys(n);
   int first_computed = 1;  // frames [1, first_computed) come from the cache
   if (cache.enabled()) {

@@ -13,6 +13,7 @@
 #include "f2c/odometry/odometry_internal.h"
 #include "f2c/odometry/pair_cache.h"
 #include "f2c/util/error.h"
+#include "f2c/util/fields_json.h"
 #include "f2c/util/file.h"
 #include "f2c/util/progress.h"
 #include "f2c/util/timer.h"
@@ -32,29 +33,14 @@ std::string MethodName(AlignmentMethod method) {
 }
 
 void KeyframeOdometryOptions::Check() const {
-  track.Check();
-  if (!(max_translation > 0)) ThrowInputError("--keyframe-translation", "must be positive");
-  if (!(max_rotation_deg > 0)) ThrowInputError("--keyframe-rotation", "must be positive");
-  if (!(min_overlap >= 0 && min_overlap <= 1)) ThrowInputError("--keyframe-overlap", "must be in [0, 1]");
-  if (!(min_inlier_share >= 0 && min_inlier_share <= 1)) ThrowInputError("--keyframe-inlier-share", "must be in [0, 1]");
-  if (min_inliers < 3) ThrowInputError("--track-min-inliers", "must be >= 3");
-  if (max_interval < 0) ThrowInputError("--keyframe-max-interval", "must be >= 0");
-  if (velocity_frames < 1) ThrowInputError("--velocity-frames", "must be >= 1");
+  CheckFields(*this);
 }
 
 void OdometryOptions::Check() const {
-  keyframes.Check();
-  sift.Check();
-  ransac.Check();
-  icp.Check();
-  if (!(ratio > 0 && ratio <= 1)) ThrowInputError("odometry.ratio", "must be in (0, 1]");
-  if (!(relaxed_ratio >= ratio && relaxed_ratio <= 1)) {
-    ThrowInputError("odometry.relaxed_ratio", "must be in [ratio, 1]");
+  CheckFields(*this);
+  if (relaxed_ratio < ratio) {
+    ThrowInputError("--relaxed-ratio", fmt::format("must be >= --ratio ({}), got {}", ratio, relaxed_ratio));
   }
-  if (relax_below_matches < 0) ThrowInputError("odometry.relax_below_matches", "must be >= 0");
-  if (min_inliers < 3) ThrowInputError("odometry.min_inliers", "must be >= 3");
-  if (!(fitness_threshold > 0)) ThrowInputError("odometry.fitness_threshold", "must be positive");
-  if (!(min_fitness >= 0 && min_fitness <= 1)) ThrowInputError("--min-fitness", "must be in [0, 1]");
 }
 
 namespace {
@@ -262,7 +248,7 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
 
   // Cache look-up: a pair's key covers both frames' bytes, the intrinsics, the depth
   // decoding and every option, so any change recomputes exactly the pairs it affects.
-  PairCache cache(run.cache_file, CacheContext(seq, ToJson(options).dump()));
+  PairCache cache(run.cache_file, CacheContext(seq, FieldsToJson(options).dump()));
   std::vector<std::string> keys(std::max(n - 1, 0));
   std::vector<char> have(std::max(n - 1, 0), 0);
   if (cache.enabled()) {
@@ -341,70 +327,6 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
   t.pairs_computed = n - 1 - cached;
   t.wall = wall.Seconds();
   return odometry;
-}
-
-nlohmann::json ToJson(const OdometryOptions& o) {
-  const KeyframeOdometryOptions& k = o.keyframes;
-  return {
-      {"keyframes",
-       {{"enabled", k.enabled},
-        {"max_translation", k.max_translation},
-        {"max_rotation_deg", k.max_rotation_deg},
-        {"min_overlap", k.min_overlap},
-        {"min_inlier_share", k.min_inlier_share},
-        {"min_inliers", k.min_inliers},
-        {"max_interval", k.max_interval},
-        {"velocity_frames", k.velocity_frames},
-        {"icp_to_keyframe", k.icp_to_keyframe},
-        {"track",
-         {{"window", k.track.window},
-          {"pyramid_levels", k.track.pyramid_levels},
-          {"max_lk_iterations", k.track.max_lk_iterations},
-          {"lk_epsilon", k.track.lk_epsilon},
-          {"max_correction", k.track.max_correction},
-          {"max_forward_backward", k.track.max_forward_backward}}}}},
-      {"sift",
-       {{"max_features", o.sift.max_features},
-        {"octave_layers", o.sift.octave_layers},
-        {"contrast_threshold", o.sift.contrast_threshold},
-        {"edge_threshold", o.sift.edge_threshold},
-        {"sigma", o.sift.sigma},
-        {"downscale", o.sift.downscale},
-        {"min_depth", o.sift.min_depth},
-        {"max_depth", o.sift.max_depth},
-        {"max_depth_spread", o.sift.max_depth_spread}}},
-      {"ratio", o.ratio},
-      {"relaxed_ratio", o.relaxed_ratio},
-      {"relax_below_matches", o.relax_below_matches},
-      {"ransac",
-       {{"inlier_threshold", o.ransac.inlier_threshold},
-        {"max_iterations", o.ransac.max_iterations},
-        {"confidence", o.ransac.confidence},
-        {"refit_rounds", o.ransac.refit_rounds},
-        {"robust_scale", o.ransac.robust_scale},
-        {"robust_iterations", o.ransac.robust_iterations},
-        {"anisotropic_iterations", o.ransac.anisotropic_iterations},
-        {"bearing_sigma", o.ransac.bearing_sigma},
-        {"depth_noise_a", o.ransac.depth_noise_a},
-        {"depth_noise_b", o.ransac.depth_noise_b},
-        {"anisotropic_scale", o.ransac.anisotropic_scale}}},
-      {"min_inliers", o.min_inliers},
-      {"icp_fallback", o.icp_fallback},
-      {"icp",
-       {{"min_depth", o.icp.min_depth},
-        {"max_depth", o.icp.max_depth},
-        {"max_depth_difference", o.icp.max_depth_difference},
-        {"max_points_part", o.icp.max_points_part},
-        {"iterations", o.icp.iterations},
-        {"downscale", o.icp.downscale},
-        {"max_translation", o.icp.max_translation},
-        {"max_rotation_deg", o.icp.max_rotation_deg},
-        {"prior_information", o.icp.prior_information},
-        {"degeneracy_stride", o.icp.degeneracy_stride}}},
-      {"fitness_threshold", o.fitness_threshold},
-      {"min_fitness", o.min_fitness},
-      {"seed", o.seed},
-  };
 }
 
 nlohmann::json ToJson(const PairAlignment& p) {

@@ -15,11 +15,12 @@
 #include <nlohmann/json_fwd.hpp>
 #include <vector>
 
-#include "f2c/matching/sift.h"
 #include "f2c/io/sequence.h"
-#include "f2c/odometry/depth_alignment.h"
 #include "f2c/matching/ransac.h"
+#include "f2c/matching/sift.h"
+#include "f2c/odometry/depth_alignment.h"
 #include "f2c/odometry/tracking.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -54,6 +55,24 @@ struct KeyframeOdometryOptions {
   bool icp_to_keyframe = false;
   TrackOptions track;
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Keyframe odometry");
+    F2C_FIELD(v, enabled, "--keyframes=on|off", {},
+              "on: align each frame to the current keyframe by tracking its SIFT keypoints; off: consecutive pairs, "
+              "SIFT on every frame");
+    F2C_FIELD(v, max_translation, "--keyframe-translation", Positive(), "a frame this far (m) from its keyframe starts one");
+    F2C_FIELD(v, max_rotation_deg, "--keyframe-rotation", Positive(), "a frame turned this far (deg) from its keyframe starts one");
+    F2C_FIELD(v, min_overlap, "--keyframe-overlap", Between(0, 1), "depth overlap with the keyframe below this starts one");
+    F2C_FIELD(v, min_inlier_share, "--keyframe-inlier-share", Between(0, 1),
+              "tracked inliers below this share of the keyframe's keypoints start one");
+    F2C_FIELD(v, max_interval, "--keyframe-max-interval", AtLeast(0), "frames after which a new keyframe starts (0: no limit)");
+    F2C_FIELD(v, icp_to_keyframe, "--icp-to-keyframe=on|off", {},
+              "frames without texture: depth ICP against the keyframe first (on), or against the previous frame (off)");
+    F2C_FIELD(v, velocity_frames, "--velocity-frames", AtLeast(1), "the motion prior is the mean motion over this many frames");
+    F2C_FIELD(v, min_inliers, "--track-min-inliers", AtLeast(3), "fewer tracked inliers: SIFT against the keyframe instead");
+    F2C_NESTED(v, track);
+  }
   void Check() const;
 };
 
@@ -79,6 +98,22 @@ struct OdometryOptions {
   // thread scheduling.
   uint64_t seed = 0;
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Odometry (T0)");
+    F2C_FIELD(v, seed, "--seed", {}, "seed of all random choices");
+    F2C_NESTED(v, sift);
+    v.Field(ratio, "ratio", "--ratio", AboveUpTo(0, 1), "SIFT ratio test");
+    F2C_FIELD(v, relaxed_ratio, "--relaxed-ratio", AboveUpTo(0, 1), "ratio used when few matches pass");
+    F2C_FIELD(v, relax_below_matches, "", AtLeast(0), "...fewer than this many");
+    F2C_NESTED(v, ransac);
+    F2C_FIELD(v, min_fitness, "--min-fitness", Between(0, 1), "SIFT answers whose depth overlap is lower are checked against ICP");
+    F2C_FIELD(v, min_inliers, "--min-inliers", AtLeast(3), "fewer SIFT inliers fall back to ICP");
+    F2C_FIELD(v, fitness_threshold, "", Positive(), "depth overlap: points within this distance (m)");
+    F2C_FIELD(v, icp_fallback, "!--no-icp-fallback", {}, "never use depth-only ICP");
+    F2C_NESTED(v, keyframes);
+    F2C_NESTED(v, icp);
+  }
   void Check() const;
 };
 
@@ -158,7 +193,6 @@ std::vector<int> OdometryKeyframes(const Odometry& odometry);
 // T0[0] = identity, T0[k] = T0[reference] * reference_from_frame.
 Trajectory ConcatenatePairs(const RgbdSequence& sequence, const std::vector<PairAlignment>& pairs);
 
-nlohmann::json ToJson(const OdometryOptions& options);
 // A pair as JSON (transform as 16 row-major numbers, method by name), and back; the parser
 // throws nlohmann::json::exception or std::invalid_argument on a malformed object.
 nlohmann::json ToJson(const PairAlignment& pair);

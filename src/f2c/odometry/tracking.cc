@@ -7,12 +7,8 @@
 namespace f2c {
 
 void TrackOptions::Check() const {
-  if (window < 5 || window % 2 == 0) ThrowInputError("--track-window", "must be odd and >= 5");
-  if (pyramid_levels < 0 || pyramid_levels > 8) ThrowInputError("--track-levels", "must be in 0..8");
-  if (max_lk_iterations < 1) ThrowInputError("odometry.keyframes.track.max_lk_iterations", "must be >= 1");
-  if (!(lk_epsilon > 0)) ThrowInputError("odometry.keyframes.track.lk_epsilon", "must be positive");
-  if (!(max_correction > 0)) ThrowInputError("odometry.keyframes.track.max_correction", "must be positive");
-  if (!(max_forward_backward >= 0)) ThrowInputError("odometry.keyframes.track.max_forward_backward", "must be >= 0");
+  CheckFields(*this);
+  if (window % 2 == 0) ThrowInputError("--track-window", fmt::format("must be odd, got {}", window));
 }
 
 TrackingKeyframe MakeTrackingKeyframe(int frame, const cv::Mat& gray, cv::Mat depth, SiftFeatures sift,

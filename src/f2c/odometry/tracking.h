@@ -16,6 +16,7 @@
 #include "f2c/geometry/intrinsics.h"
 #include "f2c/geometry/rigid.h"
 #include "f2c/matching/sift.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -31,6 +32,17 @@ struct TrackOptions {
   // (pixels) of the keypoint; 0: off (RANSAC alone rejects bad tracks).
   double max_forward_backward = 0;
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Keyframe odometry");
+    F2C_FIELD(v, window, "--track-window", AtLeast(5), "Lucas-Kanade window (pixels, odd)");
+    F2C_FIELD(v, pyramid_levels, "--track-levels", Between(0, 8), "Lucas-Kanade pyramid levels above the image");
+    F2C_FIELD(v, max_lk_iterations, "", AtLeast(1), "Lucas-Kanade iterations");
+    F2C_FIELD(v, lk_epsilon, "", Positive(), "Lucas-Kanade convergence (pixels)");
+    F2C_FIELD(v, max_correction, "", Positive(), "tracks moved farther than this from the prediction are dropped (pixels)");
+    F2C_FIELD(v, max_forward_backward, "--track-forward-backward", AtLeast(0),
+              "drop tracks that do not return within this many pixels (0: no check)");
+  }
   void Check() const;
 };
 

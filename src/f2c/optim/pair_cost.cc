@@ -8,22 +8,6 @@
 
 namespace f2c {
 
-const char* RobustLossName(RobustLoss loss) {
-  switch (loss) {
-    case RobustLoss::kNone: return "none";
-    case RobustLoss::kHuber: return "huber";
-    case RobustLoss::kCauchy: return "cauchy";
-  }
-  return "?";
-}
-
-RobustLoss RobustLossFromName(const std::string& name) {
-  for (RobustLoss loss : {RobustLoss::kNone, RobustLoss::kHuber, RobustLoss::kCauchy}) {
-    if (name == RobustLossName(loss)) return loss;
-  }
-  ThrowInputError("--loss", fmt::format("unknown robust loss '{}' (none, huber, cauchy)", name));
-}
-
 void EvaluateLoss(RobustLoss loss, double c, double s, double* rho, double* rho_prime) {
   const double c2 = c * c;
   switch (loss) {

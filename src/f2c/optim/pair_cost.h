@@ -17,12 +17,12 @@
 #include <vector>
 
 #include "f2c/optim/cost_functions.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
 enum class RobustLoss { kNone, kHuber, kCauchy };
-const char* RobustLossName(RobustLoss loss);
-RobustLoss RobustLossFromName(const std::string& name);  // InputError for an unknown name
+F2C_ENUM_NAMES(RobustLoss, {{RobustLoss::kNone, "none"}, {RobustLoss::kHuber, "huber"}, {RobustLoss::kCauchy, "cauchy"}})
 
 // rho(s) and rho'(s) of a loss with scale c (residual units): none s; Huber s up to c^2, then
 // 2 c sqrt(s) - c^2; Cauchy c^2 log(1 + s / c^2).

@@ -17,26 +17,7 @@
 namespace f2c {
 
 void SolverOptions::Check() const {
-  auto non_negative = [](double v, const char* name) {
-    if (!(v >= 0 && std::isfinite(v))) ThrowInputError(name, fmt::format("must be >= 0, got {}", v));
-  };
-  non_negative(weight_correspondence, "--weight-correspondence");
-  non_negative(weight_local, "--weight-local");
-  non_negative(weight_inertia, "--weight-inertia");
-  non_negative(weight_match, "--weight-match");
-  non_negative(weight_proxy, "--weight-proxy");
-  non_negative(weight_coplanarity, "--weight-coplanarity");
-  non_negative(weight_relation, "--weight-relation");
-  if (!(match_loss_scale > 0)) ThrowInputError("--match-loss-scale", "must be positive");
-  if (!(local_loss_scale >= 0)) ThrowInputError("--local-loss-scale", "must be >= 0");
-  if (!(coplanarity_loss_scale >= 0)) ThrowInputError("--coplanarity-loss-scale", "must be >= 0");
-  if (!(rotation_lever_arm > 0)) ThrowInputError("--rotation-lever-arm", "must be positive");
-  if (!(loss_scale > 0)) ThrowInputError("--loss-scale", "must be positive");
-  if (max_iterations < 1) ThrowInputError("--solver-iterations", "must be >= 1");
-  if (plane_presolve_iterations < 0) ThrowInputError("--plane-presolve-iterations", "must be >= 0");
-  if (max_linear_iterations < 1) ThrowInputError("--linear-iterations", "must be >= 1");
-  if (!(function_tolerance > 0)) ThrowInputError("solver.function_tolerance", "must be positive");
-  if (threads < 0) ThrowInputError("--solver-threads", "must be >= 0");
+  CheckFields(*this);
 }
 
 namespace {
@@ -330,7 +311,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   // Gauss-Newton step from there overshoots (the step is rejected). So, with the poses held,
   // the planes are first solved to convergence (a small problem: E_C, E_L, E_M drop out), and
   // the joint step starts from planes in balance with the current poses.
-  if (use_structure && options.one_step && options.plane_presolve_iterations > 0) {
+  if (use_structure && options.solve == SolveMode::kOneStep && options.plane_presolve_iterations > 0) {
     for (int i = 1; i < n; ++i) pp.FixPose(&(*poses)[i]);
     ceres::Solver::Options planes = BaseSolverOptions(options);
     planes.max_num_iterations = options.plane_presolve_iterations;
@@ -340,13 +321,13 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
     for (int i = 1; i < n; ++i) pp.FreePose(&(*poses)[i]);
   }
   ceres::Solver::Options solver = BaseSolverOptions(options);
-  if (options.iterative) {
+  if (options.linear_solver == LinearSolver::kCgnr) {
     solver.linear_solver_type = ceres::CGNR;
     solver.preconditioner_type = ceres::JACOBI;
     solver.max_linear_solver_iterations = options.max_linear_iterations;
   }
-  solver.max_num_iterations = options.one_step ? 1 : options.max_iterations;
-  if (options.one_step) {
+  solver.max_num_iterations = options.solve == SolveMode::kOneStep ? 1 : options.max_iterations;
+  if (options.solve == SolveMode::kOneStep) {
     // A huge trust region makes Levenberg-Marquardt's first step the Gauss-Newton step.
     solver.initial_trust_region_radius = 1e16;
   }
@@ -361,29 +342,6 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   for (Pose& p : *poses) p.rotation.normalize();
   summary.seconds = timer.Seconds();
   return summary;
-}
-
-nlohmann::json ToJson(const SolverOptions& o) {
-  return {{"weight_correspondence", o.weight_correspondence},
-          {"weight_local", o.weight_local},
-          {"weight_inertia", o.weight_inertia},
-          {"weight_match", o.weight_match},
-          {"weight_proxy", o.weight_proxy},
-          {"weight_coplanarity", o.weight_coplanarity},
-          {"weight_relation", o.weight_relation},
-          {"match_loss_scale", o.match_loss_scale},
-          {"local_loss_scale", o.local_loss_scale},
-          {"coplanarity_loss_scale", o.coplanarity_loss_scale},
-          {"rotation_lever_arm", o.rotation_lever_arm},
-          {"loss", RobustLossName(o.loss)},
-          {"loss_scale", o.loss_scale},
-          {"max_iterations", o.max_iterations},
-          {"plane_presolve_iterations", o.plane_presolve_iterations},
-          {"one_step", o.one_step},
-          {"function_tolerance", o.function_tolerance},
-          {"linear_solver", o.iterative ? "cgnr" : "sparse_cholesky"},
-          {"max_linear_iterations", o.max_linear_iterations},
-          {"threads", o.threads}};
 }
 
 nlohmann::json ToJson(const SolveSummary& s) {

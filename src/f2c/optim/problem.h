@@ -22,8 +22,15 @@
 #include "f2c/optim/constraints.h"
 #include "f2c/optim/pair_cost.h"
 #include "f2c/optim/pose.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
+
+// One Gauss-Newton step per refinement iteration (the authors), or Ceres to convergence.
+enum class SolveMode { kOneStep, kConverge };
+F2C_ENUM_NAMES(SolveMode, {{SolveMode::kOneStep, "one-step"}, {SolveMode::kConverge, "converge"}})
+enum class LinearSolver { kSparse, kCgnr };
+F2C_ENUM_NAMES(LinearSolver, {{LinearSolver::kSparse, "sparse"}, {LinearSolver::kCgnr, "cgnr"}})
 
 struct SolverOptions {
   // Term totals. The authors' code: E_C 1500 -> 1000 over the iterations, E_L 1000, E_I 1.
@@ -56,11 +63,11 @@ struct SolverOptions {
   double rotation_lever_arm = 1.0;
   RobustLoss loss = RobustLoss::kCauchy;
   double loss_scale = 0.02;  // metres
-  // one_step: a single Gauss-Newton step per refinement iteration, as the authors take (the
+  // kOneStep: a single Gauss-Newton step per refinement iteration, as the authors take (the
   // default: as accurate as solving to convergence here at a quarter of the time,
-  // BENCHMARKS.md); otherwise up to max_iterations Ceres iterations.
+  // BENCHMARKS.md); kConverge: up to max_iterations Ceres iterations.
   int max_iterations = 50;
-  bool one_step = true;
+  SolveMode solve = SolveMode::kOneStep;
   // One-step mode with the structural model: the planes alone (poses held) are first solved
   // for up to this many iterations, so the joint step starts from planes in balance (0: off).
   int plane_presolve_iterations = 3;
@@ -68,13 +75,43 @@ struct SolverOptions {
   // The linear solver: sparse Cholesky (SuiteSparse), exact; or conjugate gradients on the
   // normal equations with a block-Jacobi preconditioner, whose memory grows with the
   // constraints only (a Cholesky factor fills in as loops tie distant frames together).
-  bool iterative = false;
+  LinearSolver linear_solver = LinearSolver::kSparse;
   int max_linear_iterations = 100;
   // Ceres' threads; 0: as many as the thread pool allows (register --threads). The one-step
   // solve gave byte-identical poses for 1 and 2 threads (tested).
   int threads = 0;
 
-  void Check() const;  // InputError naming the field when out of range
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Refinement: energy and solver (paper 4.3)");
+    F2C_FIELD(v, weight_correspondence, "--weight-correspondence", AtLeast(0), "w_C, E_C's total weight");
+    F2C_FIELD(v, weight_local, "--weight-local", AtLeast(0), "w_L, E_L's total weight");
+    F2C_FIELD(v, weight_inertia, "--weight-inertia", AtLeast(0), "w_I, E_I's total weight");
+    F2C_FIELD(v, rotation_lever_arm, "--rotation-lever-arm", Positive(), "E_L/E_I compare rotations at this distance (m/rad)");
+    F2C_FIELD(v, local_loss_scale, "--local-loss-scale", AtLeast(0), "Cauchy scale of E_L (m; 0: least squares)");
+    F2C_FIELD(v, weight_match, "--weight-match", AtLeast(0), "w_M: each SIFT loop match weighs w_M / frames");
+    F2C_FIELD(v, match_loss_scale, "--match-loss-scale", Positive(), "Cauchy scale of E_M (m)");
+    F2C_FIELD(v, loss, "--loss", {}, "robust loss of E_C: none, huber, cauchy");
+    F2C_FIELD(v, loss_scale, "--loss-scale", Positive(), "its scale (m)");
+    F2C_FIELD(v, max_iterations, "--solver-iterations", AtLeast(1), "Ceres iterations per refinement iteration");
+    F2C_FIELD(v, solve, "--solve", {},
+              "one-step: one Gauss-Newton step per iteration (the authors' code); converge: to convergence");
+    F2C_FIELD(v, function_tolerance, "", Positive(), "Ceres' function tolerance (converge)");
+    F2C_FIELD(v, linear_solver, "--linear-solver", {},
+              "sparse: Cholesky (exact); cgnr: conjugate gradients (memory linear in the constraints)");
+    F2C_FIELD(v, max_linear_iterations, "--linear-iterations", AtLeast(1), "cgnr: iterations per step");
+    F2C_FIELD(v, threads, "--solver-threads", AtLeast(0), "Ceres threads (0: as --threads)");
+    v.Group("Refinement: planar structure (paper 4.2-4.3)");
+    F2C_FIELD(v, weight_proxy, "--weight-proxy", AtLeast(0), "w_P, E_P's total weight (children fit their images)");
+    F2C_FIELD(v, weight_coplanarity, "--weight-coplanarity", AtLeast(0),
+              "w_H, E_H's total weight (children coplanar with parents)");
+    F2C_FIELD(v, coplanarity_loss_scale, "--coplanarity-loss-scale", AtLeast(0), "Cauchy scale of E_H (m; 0: least squares)");
+    F2C_FIELD(v, weight_relation, "--weight-relation", AtLeast(0),
+              "w_G, E_G's total weight (parallel/antiparallel/orthogonal parents)");
+    F2C_FIELD(v, plane_presolve_iterations, "--plane-presolve-iterations", AtLeast(0),
+              "one-step solves: iterations on the planes alone before the joint step (0: off)");
+  }
+  void Check() const;
 };
 
 struct SolveSummary {
@@ -93,7 +130,6 @@ struct SolveSummary {
 // per frame). The poses on entry are E_I's reference.
 SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& options, PoseVector* poses);
 
-nlohmann::json ToJson(const SolverOptions& options);
 nlohmann::json ToJson(const SolveSummary& summary);
 
 }  // namespace f2c

@@ -105,7 +105,7 @@ TEST(SolvePoses, CorrespondencesAloneRecoverPerturbedPoses) {
   const std::vector<FeatureCorrespondence> c = ExactCorrespondences(scene, rng);
   PoseVector poses = Perturb(scene.truth, 0.03, 0.02, rng);
   SolverOptions options;
-  options.one_step = false;
+  options.solve = SolveMode::kConverge;
   options.weight_inertia = 1e-6;  // the reference here is the perturbed start
   SolveSummary s;
   for (int round = 0; round < 3; ++round) s = SolvePoses({c, {}, {}, {}}, options, &poses);
@@ -132,7 +132,7 @@ TEST(SolvePoses, LocalConstraintsAtTheTruthCostNothing) {
   std::mt19937 rng(5);
   poses = Perturb(scene.truth, 0.05, 0.03, rng);
   SolverOptions options;
-  options.one_step = false;
+  options.solve = SolveMode::kConverge;
   options.weight_inertia = 1e-9;
   for (int round = 0; round < 3; ++round) s = SolvePoses({{}, local, {}, {}}, options, &poses);
   EXPECT_LT(MaxTranslationError(poses, scene.truth), 1e-5);
@@ -159,7 +159,7 @@ TEST(SolvePoses, OneGaussNewtonStepReducesTheCost) {
   const std::vector<FeatureCorrespondence> c = ExactCorrespondences(scene, rng);
   PoseVector poses = Perturb(scene.truth, 0.02, 0.01, rng);
   SolverOptions options;
-  options.one_step = true;
+  options.solve = SolveMode::kOneStep;
   const SolveSummary s = SolvePoses({c, {}, {}, {}}, options, &poses);
   EXPECT_EQ(s.iterations, 1);
   EXPECT_LT(s.cost_after.at("E_C"), 0.05 * s.cost_before.at("E_C"));
@@ -213,7 +213,7 @@ TEST(SolvePoses, ARelationBetweenParentsTurnsAFrameBack) {
   }
   constraints.structure.relations.push_back({0, 1, RelationType::kAntiparallel, 1.0f});
   SolverOptions options;
-  options.one_step = false;
+  options.solve = SolveMode::kConverge;
   options.weight_local = 0;
   auto error_deg = [&](const PoseVector& poses) {
     return RotationAngle((poses[1].rotation * truth[1].rotation.conjugate()).toRotationMatrix()) * 180 / M_PI;

@@ -11,32 +11,15 @@
 
 namespace f2c {
 
-const char* ThresholdScheduleName(ThresholdSchedule s) { return s == ThresholdSchedule::kAge ? "age" : "path"; }
-
-ThresholdSchedule ThresholdScheduleFromName(const std::string& name) {
-  if (name == "age") return ThresholdSchedule::kAge;
-  if (name == "path") return ThresholdSchedule::kPath;
-  ThrowInputError("--thresholds", fmt::format("unknown threshold schedule '{}' (age, path)", name));
-}
-
 void CorrespondenceOptions::Check() const {
-  if (!(final_max_distance > 0 && initial_max_distance >= final_max_distance)) {
-    ThrowInputError("--max-distance-final", fmt::format("need 0 < final <= --max-distance-initial, got {} and {}", final_max_distance,
-                                                  initial_max_distance));
+  CheckFields(*this);
+  if (initial_max_distance < final_max_distance) {
+    ThrowInputError("--max-distance-final", fmt::format("must be <= --max-distance-initial ({}), got {}",
+                                                        initial_max_distance, final_max_distance));
   }
-  if (!(final_max_angle_deg > 0 && initial_max_angle_deg >= final_max_angle_deg && initial_max_angle_deg <= 180)) {
-    ThrowInputError("--max-angle-final", fmt::format("need 0 < final <= --max-angle-initial <= 180, got {} and {}",
-                                               final_max_angle_deg, initial_max_angle_deg));
-  }
-  if (decay_iterations < 0) ThrowInputError("--threshold-decay", "must be >= 0");
-  if (!(polish_max_distance > 0)) ThrowInputError("--polish-max-distance", "must be positive");
-  if (!(polish_max_angle_deg > 0 && polish_max_angle_deg <= 180)) ThrowInputError("--polish-max-angle", "must be in (0, 180]");
-  if (per_frame < 1) ThrowInputError("--correspondences-per-frame", "must be >= 1");
-  if (min_per_pair < 1) ThrowInputError("--min-correspondences-per-pair", "must be >= 1");
-  if (!(attempts >= 1)) ThrowInputError("correspondences.attempts", "must be >= 1");
-  if (neighbours < 1 || neighbours > 64) ThrowInputError("correspondences.neighbours", "must be in 1..64");
-  for (double w : type_weights) {
-    if (!(w >= 0 && std::isfinite(w))) ThrowInputError("--type-weights", "must be >= 0");
+  if (initial_max_angle_deg < final_max_angle_deg) {
+    ThrowInputError("--max-angle-final", fmt::format("must be <= --max-angle-initial ({}), got {}",
+                                                     initial_max_angle_deg, final_max_angle_deg));
   }
 }
 
@@ -172,23 +155,6 @@ std::vector<FeatureCorrespondence> FindCorrespondences(const std::vector<FramePa
   }
   if (stats) *stats = s;
   return all;
-}
-
-nlohmann::json ToJson(const CorrespondenceOptions& o) {
-  return {{"initial_max_distance", o.initial_max_distance},
-          {"initial_max_angle_deg", o.initial_max_angle_deg},
-          {"final_max_distance", o.final_max_distance},
-          {"final_max_angle_deg", o.final_max_angle_deg},
-          {"decay_iterations", o.decay_iterations},
-          {"polish_max_distance", o.polish_max_distance},
-          {"polish_max_angle_deg", o.polish_max_angle_deg},
-          {"schedule", ThresholdScheduleName(o.schedule)},
-          {"per_frame", o.per_frame},
-          {"min_per_pair", o.min_per_pair},
-          {"attempts", o.attempts},
-          {"neighbours", o.neighbours},
-          {"type_weights", o.type_weights},
-          {"seed", o.seed}};
 }
 
 nlohmann::json ToJson(const CorrespondenceStats& s) {

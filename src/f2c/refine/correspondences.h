@@ -26,12 +26,12 @@
 #include "f2c/refine/feature_index.h"
 #include "f2c/refine/pairs.h"
 #include "f2c/refine/windows.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
 enum class ThresholdSchedule { kAge, kPath };
-const char* ThresholdScheduleName(ThresholdSchedule schedule);
-ThresholdSchedule ThresholdScheduleFromName(const std::string& name);
+F2C_ENUM_NAMES(ThresholdSchedule, {{ThresholdSchedule::kAge, "age"}, {ThresholdSchedule::kPath, "path"}})
 
 struct CorrespondenceOptions {
   double initial_max_distance = 0.5;  // metres
@@ -52,6 +52,33 @@ struct CorrespondenceOptions {
   std::array<double, kFeatureTypeCount> type_weights = {1.0, 0.6, 0.2, 0.2, 0.2, 0.2};
   uint64_t seed = 0;
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Refinement: frame pairs and correspondences (paper 4.2)");
+    F2C_FIELD(v, initial_max_distance, "--max-distance-initial", Positive(),
+              "correspondence distance when a pair first shares a window (m)");
+    F2C_FIELD(v, final_max_distance, "--max-distance-final", Positive(), "...decreasing linearly to this (m)");
+    F2C_FIELD(v, initial_max_angle_deg, "--max-angle-initial", AboveUpTo(0, 180),
+              "normal/direction angle when a pair first shares a window (deg)");
+    F2C_FIELD(v, final_max_angle_deg, "--max-angle-final", AboveUpTo(0, 180), "...decreasing linearly to this (deg)");
+    F2C_FIELD(v, decay_iterations, "--threshold-decay", AtLeast(0), "iterations from the initial to the final thresholds");
+    F2C_FIELD(v, polish_max_distance, "--polish-max-distance", Positive(), "correspondence distance in polish iterations (m)");
+    F2C_FIELD(v, polish_max_angle_deg, "--polish-max-angle", AboveUpTo(0, 180),
+              "normal/direction angle in polish iterations (deg)");
+    F2C_FIELD(v, schedule, "--thresholds", {},
+              "age: by iterations together (the paper); path: per pair by camera path (the authors' code)");
+    F2C_FIELD(v, per_frame, "--correspondences-per-frame", AtLeast(1), "|C| = this times the frames, per iteration");
+    F2C_FIELD(v, min_per_pair, "--min-correspondences-per-pair", AtLeast(1), "each pair's share at least this");
+    F2C_FIELD(v, attempts, "", AtLeast(1), "features tried per correspondence wanted");
+    F2C_FIELD(v, neighbours, "", Between(1, 64), "closest features checked for compatibility");
+    v.Field(type_weights[0], "weight_plane", "--weight-plane", AtLeast(0), "E_C weight of plane correspondences (relative)");
+    v.Field(type_weights[1], "weight_silhouette", "--weight-silhouette", AtLeast(0), "...of silhouette edges");
+    v.Field(type_weights[2], "weight_shadow", "", AtLeast(0), "...of shadow edges (--use-shadows)");
+    v.Field(type_weights[3], "weight_border", "", AtLeast(0), "...of image-border points (--use-borders)");
+    v.Field(type_weights[4], "weight_ridge", "--weight-ridge", AtLeast(0), "...of ridges");
+    v.Field(type_weights[5], "weight_valley", "--weight-valley", AtLeast(0), "...of valleys");
+    F2C_FIELD(v, seed, "--refine-seed", {}, "seed of the correspondence sampling");
+  }
   void Check() const;
 };
 
@@ -81,7 +108,6 @@ std::vector<FeatureCorrespondence> FindCorrespondences(const std::vector<FramePa
                                                 const CorrespondenceOptions& options,
                                                 CorrespondenceStats* stats = nullptr);
 
-nlohmann::json ToJson(const CorrespondenceOptions& options);
 nlohmann::json ToJson(const CorrespondenceStats& stats);
 
 }  // namespace f2c

@@ -10,11 +10,7 @@
 namespace f2c {
 
 void FeatureIndexOptions::Check() const {
-  if (max_planes < 1) ThrowInputError("--max-plane-features", "must be >= 1");
-  if (max_edges < 1) ThrowInputError("--max-edge-features", "must be >= 1");
-  if (coverage_samples < 1) ThrowInputError("feature_index.coverage_samples", "must be >= 1");
-  if (max_proxies < 0) ThrowInputError("--max-proxies", "must be >= 0");
-  if (min_proxy_inliers < 3) ThrowInputError("--min-proxy-inliers", "must be >= 3");
+  CheckFields(*this);
 }
 
 struct FeatureCloud::Tree {
@@ -107,16 +103,6 @@ size_t FeatureIndex::MemoryBytes() const {
     for (const FeatureCloud& c : f->families) bytes += c.MemoryBytes();
   }
   return bytes;
-}
-
-nlohmann::json ToJson(const FeatureIndexOptions& o) {
-  return {{"max_planes", o.max_planes},
-          {"max_edges", o.max_edges},
-          {"use_shadows", o.use_shadows},
-          {"use_borders", o.use_borders},
-          {"coverage_samples", o.coverage_samples},
-          {"max_proxies", o.max_proxies},
-          {"min_proxy_inliers", o.min_proxy_inliers}};
 }
 
 }  // namespace f2c

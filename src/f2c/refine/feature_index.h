@@ -17,6 +17,7 @@
 
 #include "f2c/features/depth_features.h"
 #include "f2c/features/proxies.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -39,6 +40,18 @@ struct FeatureIndexOptions {
   int max_proxies = 4;
   int min_proxy_inliers = 10;
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Refinement: frame pairs and correspondences (paper 4.2)");
+    F2C_FIELD(v, max_planes, "--max-plane-features", AtLeast(1), "plane features kept per frame");
+    F2C_FIELD(v, max_edges, "--max-edge-features", AtLeast(1), "edge features kept per frame");
+    F2C_FIELD(v, use_shadows, "--use-shadows", {}, "also match shadow edges (view-dependent)");
+    F2C_FIELD(v, use_borders, "--use-borders", {}, "also match image-border points (view-dependent)");
+    F2C_FIELD(v, coverage_samples, "", AtLeast(1), "points per frame for the overlap of two views");
+    v.Group("Refinement: planar structure (paper 4.2-4.3)");
+    F2C_FIELD(v, max_proxies, "--max-proxies", AtLeast(0), "per-image proxies per frame taken as children (largest)");
+    F2C_FIELD(v, min_proxy_inliers, "--min-proxy-inliers", AtLeast(3), "...with at least this many member cells");
+  }
   void Check() const;
 };
 
@@ -96,6 +109,5 @@ struct FeatureIndex {
   size_t MemoryBytes() const;
 };
 
-nlohmann::json ToJson(const FeatureIndexOptions& options);
 
 }  // namespace f2c

@@ -13,11 +13,7 @@
 namespace f2c {
 
 void HierarchyOptions::Check() const {
-  if (!(max_distance > 0)) ThrowInputError("--coplanar-distance", "must be positive");
-  if (!(max_normal_angle > 0 && max_normal_angle < M_PI / 2)) {
-    ThrowInputError("--coplanar-angle", "must be in (0, 90) degrees");
-  }
-  if (!(premerge_fraction > 0 && premerge_fraction <= 1)) ThrowInputError("hierarchy.premerge_fraction", "must be in (0, 1]");
+  CheckFields(*this);
 }
 
 namespace {
@@ -58,7 +54,7 @@ Cluster FromItem(const ClusterItem& item, int index) {
 // The merge cost of two clusters, or infinity when they may not merge under the thresholds
 // scaled by `fraction`.
 double MergeCost(const Cluster& a, const Cluster& b, const HierarchyOptions& options, double fraction) {
-  const double max_angle = fraction * options.max_normal_angle;
+  const double max_angle = fraction * options.max_normal_angle_deg * M_PI / 180;
   const double max_distance = fraction * options.max_distance;
   const double cosine = a.normal.dot(b.normal);
   if (cosine < std::cos(max_angle)) return std::numeric_limits<double>::infinity();
@@ -196,12 +192,6 @@ ProxyHierarchy BuildProxyHierarchy(const WindowSchedule& schedule, int iteration
   h.stats.parents = static_cast<int>(s.parents.size());
   h.stats.links = static_cast<int>(s.links.size());
   return h;
-}
-
-nlohmann::json ToJson(const HierarchyOptions& o) {
-  return {{"max_distance", o.max_distance},
-          {"max_normal_angle_deg", o.max_normal_angle * 180 / M_PI},
-          {"premerge_fraction", o.premerge_fraction}};
 }
 
 nlohmann::json ToJson(const HierarchyStats& s) {

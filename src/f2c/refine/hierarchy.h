@@ -7,7 +7,7 @@
 // one parent once a window holds both rooms.
 //
 // Clustering (ClusterCoplanar): two clusters may merge when their mean planes agree,
-//   angle(N_a, N_b) <= max_normal_angle,
+//   angle(N_a, N_b) <= max_normal_angle_deg,
 //   |N_a . (c_b - c_a)| <= max_distance and |N_b . (c_a - c_b)| <= max_distance,
 // (N: weighted mean normal, c: weighted centroid; weights are the proxies' inliers), and the
 // pair that agrees best merges first (cost: distance / max_distance + angle / max_angle,
@@ -24,6 +24,7 @@
 #include "f2c/optim/pose.h"
 #include "f2c/refine/feature_index.h"
 #include "f2c/refine/windows.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -33,9 +34,17 @@ struct HierarchyOptions {
   // off it, or a desk with what stands on it, and E_H then bends the scan; the defaults are
   // 0.05 m and 5 deg.
   double max_distance = 0.05;                     // metres
-  double max_normal_angle = 0.08726646259971647;  // radians, 5 deg
+  double max_normal_angle_deg = 5;
   double premerge_fraction = 0.5;              // of both thresholds, for the first pass
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Refinement: planar structure (paper 4.2-4.3)");
+    F2C_FIELD(v, max_distance, "--coplanar-distance", Positive(), "parents: children merge within this plane distance (m)");
+    v.Field(max_normal_angle_deg, "max_normal_angle_deg", "--coplanar-angle", Bounds{.min = 0, .max = 90, .min_open = true, .max_open = true},
+            "...and this normal angle (deg)");
+    F2C_FIELD(v, premerge_fraction, "", AboveUpTo(0, 1), "of both thresholds, for the first pass");
+  }
   void Check() const;  // InputError naming the option when out of range
 };
 
@@ -76,7 +85,6 @@ struct ProxyHierarchy {
 ProxyHierarchy BuildProxyHierarchy(const WindowSchedule& schedule, int iteration, const FeatureIndex& index,
                                    const PoseVector& poses, const HierarchyOptions& options);
 
-nlohmann::json ToJson(const HierarchyOptions& options);
 nlohmann::json ToJson(const HierarchyStats& stats);
 
 }  // namespace f2c

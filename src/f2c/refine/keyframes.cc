@@ -16,8 +16,7 @@
 namespace f2c {
 
 void KeyframeOptions::Check() const {
-  if (interval < 0) ThrowInputError("--keyframe-interval", "must be >= 0");
-  if (max_keypoints < 3) ThrowInputError("--keyframe-keypoints", "must be >= 3");
+  CheckFields(*this);
 }
 
 Keyframe MakeKeyframe(int frame, const SiftFeatures& sift, int max_keypoints) {
@@ -185,10 +184,6 @@ std::vector<int> LoopKeyframes(int frames, const KeyframeOptions& options, const
   const int interval = options.interval > 0 ? options.interval : 5;
   for (int f = 0; f < frames; f += interval) out.push_back(f);
   return out;
-}
-
-nlohmann::json ToJson(const KeyframeOptions& o) {
-  return {{"interval", o.interval}, {"max_keypoints", o.max_keypoints}};
 }
 
 }  // namespace f2c

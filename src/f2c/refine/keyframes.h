@@ -20,6 +20,7 @@
 
 #include "f2c/io/sequence.h"
 #include "f2c/matching/sift.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -29,6 +30,13 @@ struct KeyframeOptions {
   int interval = 0;
   int max_keypoints = 300;  // an even subsample when SIFT found more
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Refinement: SIFT loops and bridges (beyond the paper)");
+    F2C_FIELD(v, interval, "--keyframe-interval", AtLeast(0),
+              "every N-th frame keeps its SIFT for re-matching (0: the odometry's keyframes; every 5th without them)");
+    F2C_FIELD(v, max_keypoints, "--keyframe-keypoints", AtLeast(3), "SIFT points kept per keyframe");
+  }
   void Check() const;
 };
 
@@ -71,6 +79,5 @@ class KeyframeStore {
 // frame the odometry started a keyframe at; every 5th frame when it started none.
 std::vector<int> LoopKeyframes(int frames, const KeyframeOptions& options, const std::vector<int>& odometry_keyframes);
 
-nlohmann::json ToJson(const KeyframeOptions& options);
 
 }  // namespace f2c

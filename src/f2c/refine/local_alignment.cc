@@ -9,14 +9,10 @@
 namespace f2c {
 
 void LocalAlignmentOptions::Check() const {
-  if (max_power < 0 || max_power > 20) ThrowInputError("--local-max-power", "must be in 0..20");
-  if (!(icp_weight >= 0 && icp_weight <= 1)) ThrowInputError("--local-icp-weight", "must be in [0, 1]");
-  if (!(prior_weight >= 0 && prior_weight <= 1)) ThrowInputError("--local-prior-weight", "must be in [0, 1]");
-  if (!(inlier_slope >= 0)) ThrowInputError("local.inlier_slope", "must be >= 0");
-  if (!(fitness_high > fitness_low)) ThrowInputError("local.fitness_high", "must exceed fitness_low");
-  if (!(min_ramp >= 0 && min_ramp <= 1)) ThrowInputError("local.min_ramp", "must be in [0, 1]");
-  if (!(distance_sigma >= 0)) ThrowInputError("--local-distance-sigma", "must be >= 0");
-  if (spans != "frames" && spans != "keyframes") ThrowInputError("--local-spans", "must be frames or keyframes");
+  CheckFields(*this);
+  if (!(fitness_high > fitness_low)) {
+    ThrowInputError("fitness_high", fmt::format("must exceed fitness_low ({}), got {}", fitness_low, fitness_high));
+  }
 }
 
 double PairConfidence(const PairAlignment& pair, const LocalAlignmentOptions& o) {
@@ -103,14 +99,6 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
     }
   }
   return out;
-}
-
-nlohmann::json ToJson(const LocalAlignmentOptions& o) {
-  return {{"max_power", o.max_power},         {"icp_weight", o.icp_weight},
-          {"prior_weight", o.prior_weight},   {"inlier_midpoint", o.inlier_midpoint},
-          {"inlier_slope", o.inlier_slope},   {"fitness_low", o.fitness_low},
-          {"fitness_high", o.fitness_high},   {"min_ramp", o.min_ramp},
-          {"distance_sigma", o.distance_sigma}, {"spans", o.spans}};
 }
 
 }  // namespace f2c

@@ -20,6 +20,7 @@
 
 #include "f2c/odometry/odometry.h"
 #include "f2c/optim/constraints.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -39,6 +40,23 @@ struct LocalAlignmentOptions {
   // two are the same.
   std::string spans = "frames";
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Refinement: energy and solver (paper 4.3)");
+    F2C_FIELD(v, max_power, "--local-max-power", Between(0, 20), "E_L between frames j and j + 2^k, k <= this");
+    F2C_FIELD(v, icp_weight, "--local-icp-weight", Between(0, 1), "E_L confidence of ICP-fallback pairs (SIFT pairs up to 1)");
+    F2C_FIELD(v, prior_weight, "--local-prior-weight", Between(0, 1), "E_L confidence of motion-prior pairs");
+    F2C_FIELD(v, inlier_midpoint, "", AnyFinite(), "SIFT confidence: logistic midpoint in inliers");
+    F2C_FIELD(v, inlier_slope, "", AtLeast(0), "...and its slope");
+    F2C_FIELD(v, fitness_low, "", Between(0, 1), "SIFT confidence: fitness ramp start");
+    F2C_FIELD(v, fitness_high, "", Between(0, 1), "...and end");
+    F2C_FIELD(v, min_ramp, "", Between(0, 1), "...the ramp's floor");
+    F2C_FIELD(v, spans, "--local-spans", {},
+              "E_L pairs: frames (j, j + 2^k, and each frame with its keyframe) or keyframes (each frame with its "
+              "keyframe, and keyframes i, i + 2^k)");
+    F2C_FIELD(v, distance_sigma, "--local-distance-sigma", AtLeast(0),
+              "E_L weight exp(-d^2/2s^2) by camera distance (m; 0: off)");
+  }
   void Check() const;
 };
 
@@ -49,6 +67,5 @@ double PairConfidence(const PairAlignment& pair, const LocalAlignmentOptions& op
 std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlignment>& pairs,
                                                      const LocalAlignmentOptions& options);
 
-nlohmann::json ToJson(const LocalAlignmentOptions& options);
 
 }  // namespace f2c

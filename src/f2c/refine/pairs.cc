@@ -12,13 +12,7 @@
 namespace f2c {
 
 void PairOptions::Check() const {
-  if (!(cell_size > 0)) ThrowInputError("--pair-cell-size", "must be positive");
-  if (!(min_overlap >= 0 && min_overlap <= 1)) ThrowInputError("--min-overlap", "must be in [0, 1]");
-  if (!(max_view_angle_deg > 0 && max_view_angle_deg <= 180)) ThrowInputError("--max-view-angle", "must be in (0, 180]");
-  if (!(max_depth > 0)) ThrowInputError("pairs.max_depth", "must be positive");
-  if (per_octave < 1) ThrowInputError("--pairs-per-octave", "must be >= 1");
-  if (long_range_stride < 1) ThrowInputError("--long-range-stride", "must be >= 1");
-  if (long_range_gap < 1) ThrowInputError("--long-range-gap", "must be >= 1");
+  CheckFields(*this);
 }
 
 float CoverageSeen(const FrameIndex& a, const Eigen::Isometry3f& b_from_a, const CameraIntrinsics& k,
@@ -126,16 +120,6 @@ std::vector<FramePair> CandidatePairs(const WindowSchedule& schedule, int iterat
   std::vector<FramePair> pairs;
   for (const auto& p : per_frame) pairs.insert(pairs.end(), p.begin(), p.end());
   return pairs;
-}
-
-nlohmann::json ToJson(const PairOptions& o) {
-  return {{"cell_size", o.cell_size},
-          {"min_overlap", o.min_overlap},
-          {"max_view_angle_deg", o.max_view_angle_deg},
-          {"max_depth", o.max_depth},
-          {"per_octave", o.per_octave},
-          {"long_range_stride", o.long_range_stride},
-          {"long_range_gap", o.long_range_gap}};
 }
 
 }  // namespace f2c

@@ -39,22 +39,7 @@ double MatchError(const PoseVector& poses, const std::vector<PointMatch>& matche
 }  // namespace
 
 void RefineOptions::Check() const {
-  windows.Check();
-  features.Check();
-  pairs.Check();
-  correspondences.Check();
-  local.Check();
-  loops.Check();
-  solver.Check();
-  hierarchy.Check();
-  relations.Check();
-  const std::pair<double, const char*> initial[] = {{weight_correspondence_initial, "--weight-correspondence-initial"},
-                                                    {weight_proxy_initial, "--weight-proxy-initial"},
-                                                    {weight_coplanarity_initial, "--weight-coplanarity-initial"},
-                                                    {weight_relation_initial, "--weight-relation-initial"}};
-  for (const auto& [value, name] : initial) {
-    if (!(value < 0 || std::isfinite(value))) ThrowInputError(name, "must be finite");
-  }
+  CheckFields(*this);
 }
 
 FeatureIndex BuildFeatureIndex(const FeatureSet& features, const FeatureIndexOptions& options) {
@@ -129,7 +114,7 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
       if (MaxChange(unplaced, result.poses).first > options.loops.presolve_min_change ||
           MatchError(result.poses, constraints.matches) > options.loops.presolve_min_change) {
         SolverOptions graph = options.solver;
-        graph.one_step = false;
+        graph.solve = SolveMode::kConverge;
         s.presolve = SolvePoses({{}, constraints.local, constraints.matches, {}}, graph, &result.poses);
       }
       s.seconds_loops += presolve.Seconds();
@@ -195,24 +180,6 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
   }
   result.seconds = total.Seconds();
   return result;
-}
-
-nlohmann::json ToJson(const RefineOptions& o) {
-  return {{"windows", ToJson(o.windows)},
-          {"features", ToJson(o.features)},
-          {"pairs", ToJson(o.pairs)},
-          {"correspondences", ToJson(o.correspondences)},
-          {"local", ToJson(o.local)},
-          {"sift_loops", ToJson(o.loops)},
-          {"solver", ToJson(o.solver)},
-          {"structure", o.structure},
-          {"structure_first_iteration", o.structure_first_iteration},
-          {"hierarchy", ToJson(o.hierarchy)},
-          {"relations", ToJson(o.relations)},
-          {"weight_correspondence_initial", o.weight_correspondence_initial},
-          {"weight_proxy_initial", o.weight_proxy_initial},
-          {"weight_coplanarity_initial", o.weight_coplanarity_initial},
-          {"weight_relation_initial", o.weight_relation_initial}};
 }
 
 nlohmann::json ToJson(const IterationSummary& s) {

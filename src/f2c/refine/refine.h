@@ -30,6 +30,7 @@
 #include "f2c/refine/relations.h"
 #include "f2c/refine/sift_loops.h"
 #include "f2c/refine/windows.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -59,6 +60,33 @@ struct RefineOptions {
   double weight_coplanarity_initial = -1;
   double weight_relation_initial = -1;
 
+  template <class V>
+  void Fields(V& v) {
+    F2C_NESTED(v, windows);
+    F2C_NESTED(v, features);
+    F2C_NESTED(v, pairs);
+    F2C_NESTED(v, correspondences);
+    v.Group("Refinement: energy and solver (paper 4.3)");
+    F2C_FIELD(v, weight_correspondence_initial, "--weight-correspondence-initial", AnyFinite(),
+              "w_C in the first iteration, linear to --weight-correspondence in the last (the authors: 1500); < 0: constant");
+    F2C_NESTED(v, local);
+    F2C_NESTED(v, solver);
+    v.Group("Refinement: planar structure (paper 4.2-4.3)");
+    F2C_FIELD(v, structure, "--structure,!--no-structure", {},
+              "the planar structural model E_P, E_H, E_G (default off for now, BENCHMARKS.md; --no-structure: the "
+              "paper's ablation)");
+    F2C_FIELD(v, structure_first_iteration, "--structure-from", AnyFinite(),
+              "the structure from this iteration on (< 0: from the first whose window holds the whole scan)");
+    F2C_FIELD(v, weight_proxy_initial, "--weight-proxy-initial", AnyFinite(),
+              "w_P in the first iteration, linear to --weight-proxy; < 0: constant");
+    F2C_FIELD(v, weight_coplanarity_initial, "--weight-coplanarity-initial", AnyFinite(),
+              "w_H in the first iteration; < 0: constant");
+    F2C_FIELD(v, weight_relation_initial, "--weight-relation-initial", AnyFinite(),
+              "w_G in the first iteration; < 0: constant");
+    F2C_NESTED(v, hierarchy);
+    F2C_NESTED(v, relations);
+    F2C_NESTED(v, loops);
+  }
   void Check() const;  // InputError naming the option when out of range
 };
 
@@ -109,7 +137,6 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
 // Camera path from the first frame to each frame (metres).
 std::vector<double> CameraPath(const Trajectory& trajectory);
 
-nlohmann::json ToJson(const RefineOptions& options);
 nlohmann::json ToJson(const IterationSummary& summary);
 
 }  // namespace f2c

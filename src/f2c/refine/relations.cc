@@ -10,11 +10,7 @@
 namespace f2c {
 
 void RelationOptions::Check() const {
-  if (!(sigma > 0)) ThrowInputError("--relation-sigma", "must be positive");
-  if (!(max_angle > 0 && max_angle < M_PI / 4)) ThrowInputError("--relation-max-angle", "must be in (0, 45) degrees");
-  if (!(min_weight >= 0 && min_weight < 1)) ThrowInputError("--relation-min-weight", "must be in [0, 1)");
-  if (!(covisible_tolerance >= 0)) ThrowInputError("--relation-covisible-tolerance", "must be >= 0");
-  if (max_per_parent < 0) ThrowInputError("--relations-per-parent", "must be >= 0");
+  CheckFields(*this);
 }
 
 bool ClassifyRelation(double theta, const RelationOptions& options, RelationType* type, double* weight) {
@@ -26,8 +22,9 @@ bool ClassifyRelation(double theta, const RelationOptions& options, RelationType
     if (std::abs(theta - targets[k]) < std::abs(theta - targets[best])) best = k;
   }
   const double off = theta - targets[best];
-  const double w = std::exp(-off * off / (2 * options.sigma * options.sigma));
-  if (std::abs(off) > options.max_angle || w <= options.min_weight) return false;
+  const double sigma = options.sigma_deg * M_PI / 180;
+  const double w = std::exp(-off * off / (2 * sigma * sigma));
+  if (std::abs(off) > options.max_angle_deg * M_PI / 180 || w <= options.min_weight) return false;
   *type = types[best];
   *weight = w;
   return true;
@@ -57,7 +54,7 @@ std::vector<PlaneRelation> DetectRelations(const ProxyHierarchy& h, const Relati
   const StructureConstraints& s = h.structure;
   // In-image angles between parents that one frame sees both of: inlier-weighted sums.
   std::unordered_map<uint64_t, std::pair<double, double>> seen_together;
-  if (options.covisible_tolerance > 0) {
+  if (options.covisible_tolerance_deg > 0) {
     int child = 0;
     const int children = static_cast<int>(s.children.size());
     while (child < children) {
@@ -88,10 +85,10 @@ std::vector<PlaneRelation> DetectRelations(const ProxyHierarchy& h, const Relati
     RelationType type;
     double weight;
     if (!ClassifyRelation(std::acos(cosine), options, &type, &weight)) return;
-    if (options.covisible_tolerance > 0) {
+    if (options.covisible_tolerance_deg > 0) {
       const auto it = seen_together.find(PairKey(a, b));
       if (it != seen_together.end() &&
-          std::abs(it->second.first / it->second.second - TargetAngle(type)) > options.covisible_tolerance) {
+          std::abs(it->second.first / it->second.second - TargetAngle(type)) > options.covisible_tolerance_deg * M_PI / 180) {
         local.dropped_covisible++;
         return;
       }
@@ -138,15 +135,6 @@ std::vector<PlaneRelation> DetectRelations(const ProxyHierarchy& h, const Relati
   }
   if (stats) *stats = local;
   return relations;
-}
-
-nlohmann::json ToJson(const RelationOptions& o) {
-  return {{"sigma_deg", o.sigma * 180 / M_PI},
-          {"max_angle_deg", o.max_angle * 180 / M_PI},
-          {"min_weight", o.min_weight},
-          {"adjacent_windows", o.adjacent_windows},
-          {"covisible_tolerance_deg", o.covisible_tolerance * 180 / M_PI},
-          {"max_per_parent", o.max_per_parent}};
 }
 
 nlohmann::json ToJson(const RelationStats& s) {

@@ -11,7 +11,7 @@
 // Beyond the paper, relations do not pull where an image measured otherwise: when a frame
 // sees children of both parents, the angle between those children in that image (one rigid
 // depth image, so no pose enters it) is evidence of the true angle. A relation whose
-// inlier-weighted mean in-image angle is farther than covisible_tolerance from theta_0 is
+// inlier-weighted mean in-image angle is farther than covisible_tolerance_deg from theta_0 is
 // dropped: two walls at 80 degrees that one image shows together stay at 80 degrees however
 // tempting 90 is. Relations between parents never seen together (the ones that straighten
 // drift across rooms) are kept as the paper has them.
@@ -21,20 +21,36 @@
 
 #include "f2c/optim/constraints.h"
 #include "f2c/refine/hierarchy.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
 struct RelationOptions {
-  double sigma = 0.1308996938995747;        // radians, 7.5 deg
-  double max_angle = 0.47123889803846897;   // radians, 0.15 pi
+  double sigma_deg = 7.5;
+  double max_angle_deg = 27;  // 0.15 pi
   double min_weight = 0.1;
   bool adjacent_windows = true;             // also between parents of windows j and j + 1
-  double covisible_tolerance = 0.05235987755982988;  // radians, 3 deg; 0: no check
+  double covisible_tolerance_deg = 3;  // 0: no check
   // Beyond the paper: each parent keeps its relations to at most this many partners, the
   // strongest first (w_ab times the smaller parent's inliers); 0: all, as the paper. All
   // pairs grow as the square of the parents in a window, and late windows hold hundreds.
   int max_per_parent = 8;
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Refinement: planar structure (paper 4.2-4.3)");
+    F2C_FIELD(v, sigma_deg, "--relation-sigma", Positive(), "relations: sigma of the Gaussian weight on the angle (deg)");
+    v.Field(max_angle_deg, "max_angle_deg", "--relation-max-angle", Bounds{.min = 0, .max = 45, .min_open = true, .max_open = true},
+            "relations: admitted within this of 0, 90, 180 deg (deg)");
+    v.Field(min_weight, "min_weight", "--relation-min-weight", Bounds{.min = 0, .max = 1, .max_open = true},
+            "relations: and with a weight above this");
+    F2C_FIELD(v, adjacent_windows, "!--no-adjacent-relations", {},
+              "relations within a window only (default: also between adjacent windows)");
+    F2C_FIELD(v, max_per_parent, "--relations-per-parent", AtLeast(0),
+              "each parent keeps its strongest relations to at most this many others (0: all, as the paper)");
+    F2C_FIELD(v, covisible_tolerance_deg, "--relation-covisible-tolerance", AtLeast(0),
+              "drop a relation when images that see both parents measure their angle farther than this from it (deg; 0: off)");
+  }
   void Check() const;  // InputError naming the option when out of range
 };
 
@@ -52,7 +68,6 @@ struct RelationStats {
 std::vector<PlaneRelation> DetectRelations(const ProxyHierarchy& hierarchy, const RelationOptions& options,
                                            RelationStats* stats = nullptr);
 
-nlohmann::json ToJson(const RelationOptions& options);
 nlohmann::json ToJson(const RelationStats& stats);
 
 }  // namespace f2c

@@ -63,7 +63,7 @@ TEST(DetectRelations, AnImageThatSeesBothParentsVetoesARelationItMeasuredFalse) 
   EXPECT_EQ(relations[1].type, RelationType::kOrthogonal);  // B-C at 84 deg
   // Without the check the paper's rule keeps all three.
   RelationOptions paper;
-  paper.covisible_tolerance = 0;
+  paper.covisible_tolerance_deg = 0;
   relations = DetectRelations(h, paper, &stats);
   EXPECT_EQ(relations.size(), 3u);
   EXPECT_EQ(stats.by_type[static_cast<int>(RelationType::kOrthogonal)], 2);

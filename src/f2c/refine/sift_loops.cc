@@ -13,18 +13,7 @@
 namespace f2c {
 
 void SiftLoopOptions::Check() const {
-  keyframes.Check();
-  ransac.Check();
-  if (candidates_per_keyframe < 1) ThrowInputError("--loop-candidates", "must be >= 1");
-  if (!(max_camera_distance > 0)) ThrowInputError("--loop-max-distance", "must be positive");
-  if (!(max_view_angle_deg > 0 && max_view_angle_deg <= 180)) ThrowInputError("--loop-max-view-angle", "must be in (0, 180]");
-  if (loop_gap < 1) ThrowInputError("--loop-gap", "must be >= 1");
-  if (max_bridge_gap < 1) ThrowInputError("--bridge-gap", "must be >= 1");
-  if (!(ratio > 0 && ratio <= 1)) ThrowInputError("--loop-ratio", "must be in (0, 1]");
-  if (min_inliers < 3) ThrowInputError("--loop-min-inliers", "must be >= 3");
-  if (!(min_fitness >= 0 && min_fitness <= 1)) ThrowInputError("--loop-min-fitness", "must be in [0, 1]");
-  if (!(check_distance > 0 && check_angle_deg > 0)) ThrowInputError("sift_loops.check_distance", "must be positive");
-  if (max_points_per_pair < 1) ThrowInputError("--loop-points", "must be >= 1");
+  CheckFields(*this);
 }
 
 SiftLoopMatcher::SiftLoopMatcher(std::vector<Keyframe> keyframes, std::vector<double> confidence,
@@ -175,30 +164,6 @@ SiftLoopStats SiftLoopMatcher::Update(const WindowSchedule& schedule, int iterat
   stats.points = static_cast<int>(matches_.size());
   stats.seconds = timer.Seconds();
   return stats;
-}
-
-nlohmann::json ToJson(const SiftLoopOptions& o) {
-  return {{"enabled", o.enabled},
-          {"keyframes", ToJson(o.keyframes)},
-          {"candidates_per_keyframe", o.candidates_per_keyframe},
-          {"max_camera_distance", o.max_camera_distance},
-          {"max_view_angle_deg", o.max_view_angle_deg},
-          {"loop_gap", o.loop_gap},
-          {"weak_confidence", o.weak_confidence},
-          {"max_bridge_gap", o.max_bridge_gap},
-          {"ratio", o.ratio},
-          {"ransac_threshold", o.ransac.inlier_threshold},
-          {"min_inliers", o.min_inliers},
-          {"min_fitness", o.min_fitness},
-          {"check_distance", o.check_distance},
-          {"check_angle_deg", o.check_angle_deg},
-          {"max_points_per_pair", o.max_points_per_pair},
-          {"presolve", o.presolve},
-          {"presolve_min_change", o.presolve_min_change},
-          {"spanning_tree", o.spanning_tree},
-          {"in_polish", o.in_polish},
-          {"loop_confidence", o.loop_confidence},
-          {"seed", o.seed}};
 }
 
 nlohmann::json ToJson(const SiftLoopStats& s) {

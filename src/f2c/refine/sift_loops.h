@@ -28,6 +28,7 @@
 #include "f2c/refine/keyframes.h"
 #include "f2c/refine/spanning_tree.h"
 #include "f2c/refine/windows.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -67,6 +68,35 @@ struct SiftLoopOptions {
   double loop_confidence = 0.95;
   uint64_t seed = 0;
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Refinement: SIFT loops and bridges (beyond the paper)");
+    F2C_FIELD(v, enabled, "--sift-loops,!--no-sift-loops", {},
+              "SIFT re-matching of keyframes (--no-sift-loops: closest features only, as the paper)");
+    F2C_NESTED(v, keyframes);
+    F2C_FIELD(v, candidates_per_keyframe, "--loop-candidates", AtLeast(1),
+              "new loop (and bridge) partners per keyframe and iteration");
+    F2C_FIELD(v, loop_gap, "--loop-gap", AtLeast(1), "loops: keyframes at least this many frames apart");
+    F2C_FIELD(v, max_bridge_gap, "--bridge-gap", AtLeast(1), "bridges over weak odometry: at most this many frames apart");
+    F2C_FIELD(v, weak_confidence, "", Between(0, 1), "bridges: odometry pairs below this E_L confidence");
+    F2C_FIELD(v, max_camera_distance, "--loop-max-distance", Positive(), "loops: cameras at most this far apart now (m)");
+    F2C_FIELD(v, max_view_angle_deg, "--loop-max-view-angle", AboveUpTo(0, 180), "loops: optical axes within this now (deg)");
+    F2C_FIELD(v, ratio, "--loop-ratio", AboveUpTo(0, 1), "loops: SIFT ratio test");
+    v.Nested(ransac, "ransac", /*flags=*/false);
+    F2C_FIELD(v, min_inliers, "--loop-min-inliers", AtLeast(3), "loops: RANSAC inliers needed");
+    F2C_FIELD(v, min_fitness, "--loop-min-fitness", Between(0, 1), "loops: share of seen planes the match must explain");
+    F2C_FIELD(v, check_distance, "", Positive(), "depth check: plane distance (m)");
+    F2C_FIELD(v, check_radius, "", Positive(), "depth check: nearest plane feature within (m)");
+    F2C_FIELD(v, check_angle_deg, "", AboveUpTo(0, 180), "depth check: normals within (deg)");
+    F2C_FIELD(v, max_points_per_pair, "--loop-points", AtLeast(1), "E_M points kept per matched pair");
+    F2C_FIELD(v, presolve, "", {}, "solve E_M + E_L + E_I first in an iteration that accepted matches");
+    F2C_FIELD(v, presolve_min_change, "", AtLeast(0), "...when a pose or a match is off by more (m)");
+    F2C_FIELD(v, spanning_tree, "--spanning-tree,!--no-spanning-tree", {},
+              "re-place poses along the most trusted links when loops arrive");
+    F2C_FIELD(v, in_polish, "--loop-in-polish", {}, "keep E_M in the polish iterations");
+    F2C_FIELD(v, loop_confidence, "", Between(0, 1), "spanning tree: trust of a loop");
+    F2C_FIELD(v, seed, "", {}, "seed of the loops' RANSAC");
+  }
   void Check() const;
 };
 
@@ -103,7 +133,6 @@ class SiftLoopMatcher {
   int pairs_ = 0;
 };
 
-nlohmann::json ToJson(const SiftLoopOptions& options);
 nlohmann::json ToJson(const SiftLoopStats& stats);
 
 }  // namespace f2c

@@ -10,20 +10,8 @@
 
 namespace f2c {
 
-const char* WindowModeName(WindowMode mode) { return mode == WindowMode::kFrames ? "frames" : "path"; }
-
-WindowMode WindowModeFromName(const std::string& name) {
-  if (name == "frames") return WindowMode::kFrames;
-  if (name == "path") return WindowMode::kPath;
-  ThrowInputError("--windows", fmt::format("unknown window mode '{}' (frames, path)", name));
-}
-
 void WindowOptions::Check() const {
-  if (initial_frames < 2) ThrowInputError("--window-frames", fmt::format("must be >= 2, got {}", initial_frames));
-  if (!(initial_path > 0)) ThrowInputError("--window-path", "must be positive");
-  if (!(path_cap >= 1)) ThrowInputError("--window-path-cap", "must be >= 1");
-  if (extra_iterations < 0) ThrowInputError("--extra-iterations", "must be >= 0");
-  if (polish_iterations < 0) ThrowInputError("--polish-iterations", "must be >= 0");
+  CheckFields(*this);
 }
 
 WindowSchedule::WindowSchedule(const WindowOptions& options, std::vector<double> path) : options_(options) {
@@ -97,16 +85,6 @@ int WindowSchedule::FirstShared(int a, int b) const {
     if (Share(i, a, b)) return i;
   }
   return iterations_;
-}
-
-nlohmann::json ToJson(const WindowOptions& o) {
-  return {{"mode", WindowModeName(o.mode)},
-          {"initial_frames", o.initial_frames},
-          {"initial_path", o.initial_path},
-          {"path_cap", o.path_cap},
-          {"extra_iterations", o.extra_iterations},
-          {"polish_iterations", o.polish_iterations},
-          {"fine_to_coarse", o.fine_to_coarse}};
 }
 
 }  // namespace f2c

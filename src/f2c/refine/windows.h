@@ -15,11 +15,12 @@
 #include <string>
 #include <vector>
 
+#include "f2c/util/fields.h"
+
 namespace f2c {
 
 enum class WindowMode { kFrames, kPath };
-const char* WindowModeName(WindowMode mode);
-WindowMode WindowModeFromName(const std::string& name);  // InputError for an unknown name
+F2C_ENUM_NAMES(WindowMode, {{WindowMode::kFrames, "frames"}, {WindowMode::kPath, "path"}})
 
 struct WindowOptions {
   WindowMode mode = WindowMode::kFrames;
@@ -39,6 +40,20 @@ struct WindowOptions {
   // holds the whole scan, as many iterations as the fine-to-coarse schedule would run.
   bool fine_to_coarse = true;
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Refinement: windows (paper 4.2)");
+    F2C_FIELD(v, mode, "--windows", {},
+              "frames: l_0 consecutive frames, doubling (the paper); path: by camera path (the authors' code)");
+    F2C_FIELD(v, initial_frames, "--window-frames", AtLeast(2), "l_0, frames in the first windows");
+    F2C_FIELD(v, initial_path, "--window-path", Positive(), "path windows: the first windows' length (m)");
+    F2C_FIELD(v, path_cap, "--window-path-cap", AtLeast(1), "path windows: longest window, times the scan's path");
+    F2C_FIELD(v, extra_iterations, "--extra-iterations", AtLeast(0), "iterations after one window holds the whole scan");
+    F2C_FIELD(v, polish_iterations, "--polish-iterations", AtLeast(0),
+              "then this many more with the polish thresholds (beyond the paper; 0: the paper's schedule only)");
+    F2C_FIELD(v, fine_to_coarse, "!--no-fine-to-coarse", {},
+              "the paper's ablation: every iteration has one window holding the whole scan (as many iterations)");
+  }
   void Check() const;  // InputError naming the option when out of range
 };
 
@@ -79,6 +94,5 @@ class WindowSchedule {
   int iterations_ = 0;
 };
 
-nlohmann::json ToJson(const WindowOptions& options);
 
 }  // namespace f2c

@@ -142,7 +142,12 @@ TEST(WindowOptions, BadValuesNameTheOption) {
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(), "--window-frames: must be >= 2, got 1");
   }
-  EXPECT_THROW(WindowModeFromName("time"), InputError);
+  try {
+    FromName<WindowMode>("time", "--windows");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "--windows: unknown value 'time' (frames, path)");
+  }
 }
 
 }  // namespace
