@@ -43,47 +43,6 @@ void AddFrameSelection(CLI::App* cmd, f2c::IoOptions* io) {
       ->capture_default_str();
 }
 
-void AddFeatureOptions(CLI::App* cmd, f2c::FeatureOptions* f) {
-  const std::string group = "Features (paper 4.1; DESIGN.md section 2)";
-  auto add = [&](const std::string& name, auto* value, const std::string& help) {
-    cmd->add_option(name, *value, help)->capture_default_str()->group(group);
-  };
-  add("--feature-step", &f->grid.step, "pixels per grid cell of the feature extraction");
-  add("--feature-max-depth", &f->grid.max_depth, "farthest depth used for features (m)");
-  add("--normal-radius", &f->grid.normal_radius, "normals: neighbours within this distance (m)");
-  add("--normal-radius-pixels", &f->grid.normal_radius_pixels, "normals: neighbours within this many pixels");
-  add("--min-spacing", &f->min_spacing, "features of one type at least this far apart (m)");
-  add("--proxy-min-points", &f->proxies.min_points, "smallest planar proxy (grid cells)");
-  add("--proxy-max-distance", &f->proxies.max_distance, "clusters merge when their planes are this close (m)");
-  add("--proxy-max-angle", &f->proxies.max_normal_angle, "...and their normals this close (radians)");
-  add("--edge-jump-fraction", &f->edge_jump_fraction, "contours: depth jump above this fraction of depth...");
-  add("--edge-min-jump", &f->edge_min_jump, "...and at least this many metres");
-  add("--crease-angle", &f->crease_angle, "ridges/valleys where proxies meet at more than this (radians)");
-  add("--depth-noise-a", &f->proxies.sensor_sigma_a,
-      "sensor depth noise sigma(z) = a + b (z - 0.4)^2 (m; Kinect v1 defaults; 0 and 0 for noise-free depth)");
-  add("--depth-noise-b", &f->proxies.sensor_sigma_b, "...its b (m per m^2)");
-  cmd->add_flag("--bilateral", f->grid.bilateral, "bilateral-filter depth first (noisy sensors, e.g. SUN3D)")
-      ->group(group);
-}
-
-void AddFusionOptions(CLI::App* cmd, FusionOptions* f) {
-  const std::string group = "Mesh (TSDF fusion, marching cubes; docs/fusion.md)";
-  auto add = [&](const std::string& name, auto* value, const std::string& help) {
-    cmd->add_option(name, *value, help)->capture_default_str()->group(group);
-  };
-  add("--voxel-size", &f->tsdf.voxel_size, "TSDF voxel edge (m)");
-  add("--truncation-voxels", &f->tsdf.truncation_voxels, "signed distances are truncated at this many voxels");
-  add("--fuse-max-depth", &f->tsdf.max_depth, "depth beyond this (m) is not fused");
-  add("--fuse-every", &f->every, "fuse every N-th frame that has a pose");
-  add("--mesh-min-weight", &f->mesh.min_weight, "mesh only where every voxel was seen this often");
-}
-
-json ToJson(const FusionOptions& f) {
-  return {{"voxel_size", f.tsdf.voxel_size},      {"truncation_voxels", f.tsdf.truncation_voxels},
-          {"min_depth", f.tsdf.min_depth},        {"max_depth", f.tsdf.max_depth},
-          {"every", f.every},                     {"mesh_min_weight", f.mesh.min_weight}};
-}
-
 json ToJson(const FusionTimings& t, const PlyPoints& mesh) {
   const double frames = std::max(t.frames_fused, 1);
   return {{"frames_fused", t.frames_fused},

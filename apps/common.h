@@ -21,11 +21,6 @@ nlohmann::json ToJson(const IoOptions& io);
 
 // --intrinsics, --every, --first, --last, --sequence.
 void AddFrameSelection(CLI::App* cmd, IoOptions* io);
-// The feature extraction's options (paper 4.1).
-void AddFeatureOptions(CLI::App* cmd, FeatureOptions* features);
-// The TSDF fusion's options (--voxel-size, --truncation-voxels, --fuse-max-depth, --fuse-every).
-void AddFusionOptions(CLI::App* cmd, FusionOptions* fusion);
-nlohmann::json ToJson(const FusionOptions& fusion);
 nlohmann::json ToJson(const FusionTimings& timings, const PlyPoints& mesh);
 
 }  // namespace f2c::app

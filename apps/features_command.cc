@@ -10,12 +10,14 @@
 
 #include "apps/commands.h"
 #include "apps/common.h"
+#include "apps/fields_cli.h"
 #include "apps/feature_views.h"
 #include "f2c/features/feature_set.h"
 #include "f2c/io/image.h"
 #include "f2c/io/ply.h"
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
+#include "f2c/util/fields_json.h"
 
 namespace f2c::app {
 namespace fs = std::filesystem;
@@ -55,7 +57,7 @@ int RunFeatures(const FeaturesArgs& args) {
                        {"layout", LayoutName(seq.layout)},
                        {"frames", n},
                        {"versions", Versions()},
-                       {"options", {{"io", ToJson(args.io)}, {"features", ToJson(args.features)}}},
+                       {"options", {{"io", ToJson(args.io)}, {"features", FieldsToJson(args.features)}}},
                        {"timings", ToJson(timings, n)},
                        {"statistics", stats}};
   WriteFileAtomic(out / "features.json", report.dump(2) + "\n");
@@ -76,7 +78,7 @@ Subcommand AddFeaturesCommand(CLI::App* app) {
   cmd->add_option("INPUT", args->input, "dataset folder or .conf")->required();
   cmd->add_option("-o,--output", args->output, "output folder")->required();
   AddFrameSelection(cmd, &args->io);
-  AddFeatureOptions(cmd, &args->features);
+  AddFieldFlags(cmd, &args->features);
   cmd->add_flag("--images", args->images, "also draw each frame's proxies and features to OUTDIR/images/");
   cmd->add_flag("--ply", args->ply, "also write each frame's features as points to OUTDIR/ply/");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress output");

@@ -8,10 +8,12 @@
 
 #include "apps/commands.h"
 #include "apps/common.h"
+#include "apps/fields_cli.h"
 #include "apps/mesh_views.h"
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
 #include "f2c/util/memory.h"
+#include "f2c/util/fields_json.h"
 
 namespace f2c::app {
 namespace fs = std::filesystem;
@@ -53,7 +55,7 @@ int RunFuse(const FuseArgs& args) {
   const FusionTimings& t = fused.timings;
   if (args.json) {
     json report = ToJson(t, fused.mesh);
-    report["options"] = ToJson(args.fusion);
+    report["options"] = FieldsToJson(args.fusion);
     report["peak_memory_bytes"] = PeakResidentBytes();
     report["frames"] = t.frames_fused;
     std::printf("%s\n", report.dump(2).c_str());
@@ -81,7 +83,7 @@ Subcommand AddFuseCommand(CLI::App* app) {
   cmd->add_option("--max-time-difference", args->io.max_time_difference,
                   "a TUM pose belongs to the frame within this many seconds")
       ->capture_default_str();
-  AddFusionOptions(cmd, &args->fusion);
+  AddFieldFlags(cmd, &args->fusion);
   cmd->add_flag("--pictures", args->pictures,
                 "also draw the mesh from above and in perspective: <mesh>_top.png, <mesh>_view.png");
   cmd->add_flag("--json", args->json, "print the timings and sizes as JSON");

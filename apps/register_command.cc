@@ -232,9 +232,9 @@ int RunRegister(const RegisterArgs& args) {
       {"options",
        {{"io", ToJson(args.io)},
         {"odometry", FieldsToJson(args.odometry)},
-        {"features", args.extract_features ? ToJson(args.features) : json(nullptr)},
+        {"features", args.extract_features ? FieldsToJson(args.features) : json(nullptr)},
         {"refine", index ? FieldsToJson(args.refine) : json(nullptr)},
-        {"fusion", args.fuse_mesh ? ToJson(args.fusion) : json(nullptr)},
+        {"fusion", args.fuse_mesh ? FieldsToJson(args.fusion) : json(nullptr)},
         {"cache", args.use_cache}}},
       {"stages",
        {{"read", {{"wall_s", read_s}}},
@@ -274,7 +274,7 @@ Subcommand AddRegisterCommand(CLI::App* app) {
   cmd->add_option("-o,--output", args->output, "output folder")->required();
   AddFrameSelection(cmd, &args->io);
   AddFieldFlags(cmd, &args->odometry);  // odometry/odometry.h
-  AddFeatureOptions(cmd, &args->features);
+  AddFieldFlags(cmd, &args->features);
   auto flags = std::make_shared<RegisterFlags>();
   cmd->add_option("--stop-after", flags->stop_after,
                   "odometry: T0 is the result (no refinement, no mesh); refine: the fine-to-coarse refinement, "
@@ -286,7 +286,7 @@ Subcommand AddRegisterCommand(CLI::App* app) {
   cmd->add_option("--write-config", *write_config, "write this run's options (all of them) to FILE as TOML, for --config")
       ->group("Output");
   cmd->add_flag("--save-iterations", args->save_iterations, "write each refinement iteration's trajectory to OUTDIR/iterations/");
-  AddFusionOptions(cmd, &args->fusion);
+  AddFieldFlags(cmd, &args->fusion);
   cmd->add_flag("--no-mesh", flags->no_mesh, "do not fuse the frames into OUTDIR/mesh.ply");
   cmd->add_flag("--no-report", flags->no_report, "do not write OUTDIR/report.html");
   cmd->add_flag("--no-features", flags->no_features, "skip the feature extraction, and so the refinement (T0 only)");

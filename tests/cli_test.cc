@@ -254,7 +254,7 @@ TEST(Cli, FuseWritesTheRoomsSurfacesAndRegisterFusesItsPoses) {
   EXPECT_GT(registered.faces.size(), 1000u);
   const nlohmann::json run = nlohmann::json::parse(ReadFileToString(out / "reg" / "run.json"));
   EXPECT_EQ(run["stages"]["fusion"]["triangles"].get<size_t>(), registered.faces.size());
-  EXPECT_EQ(run["options"]["fusion"]["voxel_size"].get<double>(), 0.02);
+  EXPECT_EQ(run["options"]["fusion"]["tsdf"]["voxel_size"].get<double>(), 0.02);
   ASSERT_EQ(RunCli(reg + "--no-mesh -o " + (out / "none").string()).code, 0);
   EXPECT_FALSE(fs::exists(out / "none" / "mesh.ply"));
 }

@@ -26,14 +26,7 @@ const char* FeatureTypeName(FeatureType type) {
 }
 
 void FeatureOptions::Check() const {
-  grid.Check();
-  proxies.Check();
-  auto fail = [](const std::string& field, const std::string& what) { ThrowInputError("features." + field, what); };
-  if (!(min_spacing >= 0)) fail("min_spacing", "must be >= 0");
-  if (!(edge_jump_fraction > 0 && edge_min_jump >= 0)) fail("edge_jump", "need a positive fraction and a minimum >= 0");
-  if (edge_max_gap < 0 || crease_max_gap < 0) fail("max_gap", "must be >= 0");
-  if (!(crease_angle > 0 && crease_angle < M_PI)) fail("crease_angle", "must be in (0, pi)");
-  if (edge_direction_radius < 1) fail("edge_direction_radius", "must be >= 1");
+  CheckFields(*this);
 }
 
 int FrameFeatures::Count(FeatureType type) const {
@@ -230,9 +223,9 @@ FrameFeatures ExtractFrameFeatures(const cv::Mat& depth, const CameraIntrinsics&
   }
 
   // Creases: two proxies meeting (across at most crease_max_gap unlabelled, jump-free cells)
-  // at more than crease_angle. The feature sits on the planes' intersection line, at the
+  // at more than crease_angle_deg. The feature sits on the planes' intersection line, at the
   // point nearest the two cells' midpoint.
-  const float cos_crease = static_cast<float>(std::cos(o.crease_angle));
+  const float cos_crease = static_cast<float>(std::cos(o.crease_angle_deg * M_PI / 180));
   for (int y = 0; y < g.height; ++y) {
     for (int x = 0; x < g.width; ++x) {
       const int i = g.Index(x, y);

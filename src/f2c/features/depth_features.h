@@ -7,7 +7,7 @@
 //   silhouette  the near side of a depth jump (jump > edge_jump_fraction z and >= edge_min_jump)
 //   shadow      the far side of the same jump
 //   border      valid depth on the image border (the surface continues out of view)
-//   ridge       a convex crease: two proxies meeting at more than crease_angle
+//   ridge       a convex crease: two proxies meeting at more than crease_angle_deg
 //   valley      a concave crease (a wall meeting the floor)
 // Edge directions are unit 3D vectors along the edge (creases: n_a x n_b, exact; contours:
 // the principal axis of the nearby edge cells of the same type).
@@ -19,6 +19,7 @@
 
 #include "f2c/features/point_grid.h"
 #include "f2c/features/proxies.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -44,11 +45,26 @@ struct FeatureOptions {
   double edge_jump_fraction = 0.1;       // depth jump > this fraction of the near depth...
   double edge_min_jump = 0.1;            // ...and >= this many metres (DESIGN.md)
   int edge_max_gap = 2;                  // cells of missing depth a jump may span (sensor shadows)
-  double crease_angle = 0.7853981633974483;  // ridges/valleys where planes meet at > pi/4
+  double crease_angle_deg = 45;          // ridges/valleys where planes meet at more than this
   int crease_max_gap = 2;                // unlabelled cells between two proxies at a crease
   int edge_direction_radius = 3;         // cells: neighbourhood for contour directions
   bool border_features = true;
 
+  template <class V>
+  void Fields(V& v) {
+    F2C_NESTED(v, grid);
+    F2C_NESTED(v, proxies);
+    v.Group("Features (paper 4.1; DESIGN.md section 2)");
+    F2C_FIELD(v, min_spacing, "--min-spacing", AtLeast(0), "features of one type at least this far apart (m)");
+    F2C_FIELD(v, edge_jump_fraction, "--edge-jump-fraction", Positive(), "contours: depth jump above this fraction of depth...");
+    F2C_FIELD(v, edge_min_jump, "--edge-min-jump", AtLeast(0), "...and at least this many metres");
+    F2C_FIELD(v, edge_max_gap, "", AtLeast(0), "cells of missing depth a jump may span");
+    v.Field(crease_angle_deg, "crease_angle_deg", "--crease-angle", Bounds{.min = 0, .max = 180, .min_open = true, .max_open = true},
+            "ridges/valleys where proxies meet at more than this (deg)");
+    F2C_FIELD(v, crease_max_gap, "", AtLeast(0), "unlabelled cells between two proxies at a crease");
+    F2C_FIELD(v, edge_direction_radius, "", AtLeast(1), "cells around a contour point for its direction");
+    F2C_FIELD(v, border_features, "", {}, "image-border points as features");
+  }
   void Check() const;  // InputError naming the field when out of range
 };
 

@@ -16,6 +16,7 @@
 
 #include "f2c/io/image.h"
 #include "f2c/util/error.h"
+#include "f2c/util/fields_json.h"
 #include "f2c/util/file.h"
 #include "f2c/util/progress.h"
 #include "f2c/util/timer.h"
@@ -286,7 +287,7 @@ FeatureExtraction::FeatureExtraction(const RgbdSequence& seq, const FeatureOptio
   keys_.assign(n, 0);
   notes_.resize(n);
   empty_.assign(n, 0);
-  context_ = Fnv1a64(CacheContext(seq, ToJson(options).dump()));
+  context_ = Fnv1a64(CacheContext(seq, FieldsToJson(options).dump()));
   if (!run.cache_file.empty()) ReadCache();
   setup_s_ = wall_.Seconds();
 }
@@ -453,43 +454,6 @@ FeatureSet ExtractFeatures(const RgbdSequence& seq, const FeatureOptions& option
                            FeatureTimings* timings) {
   FeatureExtraction extraction(seq, options, run);
   return extraction.Finish(timings);
-}
-
-nlohmann::json ToJson(const FeatureOptions& o) {
-  return {
-      {"grid",
-       {{"step", o.grid.step},
-        {"min_depth", o.grid.min_depth},
-        {"max_depth", o.grid.max_depth},
-        {"bilateral", o.grid.bilateral},
-        {"bilateral_sigma_depth", o.grid.bilateral_sigma_depth},
-        {"bilateral_sigma_pixels", o.grid.bilateral_sigma_pixels},
-        {"normal_radius_pixels", o.grid.normal_radius_pixels},
-        {"normal_radius", o.grid.normal_radius},
-        {"min_normal_points", o.grid.min_normal_points}}},
-      {"proxies",
-       {{"min_points", o.proxies.min_points},
-        {"max_distance", o.proxies.max_distance},
-        {"max_normal_angle", o.proxies.max_normal_angle},
-        {"max_rms_a", o.proxies.max_rms_a},
-        {"max_rms_b", o.proxies.max_rms_b},
-        {"max_curvature", o.proxies.max_curvature},
-        {"sensor_sigma_a", o.proxies.sensor_sigma_a},
-        {"sensor_sigma_b", o.proxies.sensor_sigma_b},
-        {"flat_noise_ratio", o.proxies.flat_noise_ratio},
-        {"trim_sigmas", o.proxies.trim_sigmas},
-        {"min_trim_sigma", o.proxies.min_trim_sigma},
-        {"trim_iterations", o.proxies.trim_iterations},
-        {"min_width", o.proxies.min_width}}},
-      {"min_spacing", o.min_spacing},
-      {"edge_jump_fraction", o.edge_jump_fraction},
-      {"edge_min_jump", o.edge_min_jump},
-      {"edge_max_gap", o.edge_max_gap},
-      {"crease_angle", o.crease_angle},
-      {"crease_max_gap", o.crease_max_gap},
-      {"edge_direction_radius", o.edge_direction_radius},
-      {"border_features", o.border_features},
-  };
 }
 
 nlohmann::json ToJson(const FeatureTimings& t, int frames) {

@@ -105,7 +105,6 @@ void WriteFeatureCache(const std::filesystem::path& path, uint64_t context_hash,
 // truncated. `context_hash` receives the header's.
 std::vector<FeatureCacheEntry> ReadFeatureCache(const std::filesystem::path& path, uint64_t* context_hash);
 
-nlohmann::json ToJson(const FeatureOptions& options);
 nlohmann::json ToJson(const FeatureTimings& timings, int frames);
 // Per-type totals and per-frame means of a feature set, for run.json and benchmarks.
 nlohmann::json FeatureStatistics(const FeatureSet& set);

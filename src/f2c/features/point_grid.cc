@@ -9,13 +9,10 @@
 namespace f2c {
 
 void PointGridOptions::Check() const {
-  auto fail = [](const std::string& field, const std::string& what) { ThrowInputError("features." + field, what); };
-  if (step < 1) fail("step", "must be >= 1");
-  if (!(min_depth >= 0 && max_depth > min_depth)) fail("max_depth", "need 0 <= min_depth < max_depth");
-  if (!(bilateral_sigma_depth > 0 && bilateral_sigma_pixels > 0)) fail("bilateral", "sigmas must be positive");
-  if (normal_radius_pixels < 1) fail("normal_radius_pixels", "must be >= 1");
-  if (!(normal_radius > 0)) fail("normal_radius", "must be positive");
-  if (min_normal_points < 3) fail("min_normal_points", "must be >= 3");
+  CheckFields(*this);
+  if (!(max_depth > min_depth)) {
+    ThrowInputError("--feature-max-depth", fmt::format("must exceed min_depth ({}), got {}", min_depth, max_depth));
+  }
 }
 
 int PointGrid::ValidCount() const {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "f2c/geometry/intrinsics.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -28,6 +29,19 @@ struct PointGridOptions {
   double normal_radius = 0.25;
   int min_normal_points = 6;
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Features (paper 4.1; DESIGN.md section 2)");
+    F2C_FIELD(v, step, "--feature-step", AtLeast(1), "pixels per grid cell of the feature extraction");
+    F2C_FIELD(v, min_depth, "", AtLeast(0), "nearest depth used for features (m)");
+    F2C_FIELD(v, max_depth, "--feature-max-depth", Positive(), "farthest depth used for features (m)");
+    F2C_FIELD(v, bilateral, "--bilateral", {}, "bilateral-filter depth first (noisy sensors, e.g. SUN3D)");
+    F2C_FIELD(v, bilateral_sigma_depth, "", Positive(), "bilateral filter: depth sigma (m)");
+    F2C_FIELD(v, bilateral_sigma_pixels, "", Positive(), "bilateral filter: spatial sigma (pixels)");
+    F2C_FIELD(v, normal_radius_pixels, "--normal-radius-pixels", AtLeast(1), "normals: neighbours within this many pixels");
+    F2C_FIELD(v, normal_radius, "--normal-radius", Positive(), "normals: neighbours within this distance (m)");
+    F2C_FIELD(v, min_normal_points, "", AtLeast(3), "normals: fewest neighbours");
+  }
   void Check() const;  // InputError naming the field when out of range
 };
 

@@ -11,15 +11,7 @@
 namespace f2c {
 
 void ProxyOptions::Check() const {
-  auto fail = [](const std::string& field, const std::string& what) { ThrowInputError("proxies." + field, what); };
-  if (min_points < 3) fail("min_points", "must be >= 3");
-  if (!(max_distance > 0)) fail("max_distance", "must be positive");
-  if (!(max_normal_angle > 0 && max_normal_angle < M_PI / 2)) fail("max_normal_angle", "must be in (0, pi/2)");
-  if (!(max_rms_a > 0 && max_rms_b >= 0)) fail("max_rms", "need max_rms_a > 0 and max_rms_b >= 0");
-  if (!(max_curvature > 0)) fail("max_curvature", "must be positive");
-  if (!(sensor_sigma_a >= 0 && sensor_sigma_b >= 0 && flat_noise_ratio >= 0)) fail("sensor_sigma", "must be >= 0");
-  if (!(trim_sigmas > 0 && min_trim_sigma > 0) || trim_iterations < 0) fail("trim", "need positive sigmas, iterations >= 0");
-  if (!(min_width >= 0)) fail("min_width", "must be >= 0");
+  CheckFields(*this);
 }
 
 namespace {
@@ -92,7 +84,7 @@ ProxySegmentation ExtractProxies(const PointGrid& g, const ProxyOptions& o) {
 
   // Neighbour pairs, bucketed by 1 - cos(angle between the cells' normals): a counting sort,
   // stable, so the merge order (and the result) is the same on every run.
-  const double max_weight = 1.0 - std::cos(o.max_normal_angle);
+  const double max_weight = 1.0 - std::cos(o.max_normal_angle_deg * M_PI / 180);
   constexpr int kBuckets = 256;
   std::vector<std::vector<Edge>> buckets(kBuckets);
   auto consider = [&](int a, int b) {
@@ -112,7 +104,7 @@ ProxySegmentation ExtractProxies(const PointGrid& g, const ProxyOptions& o) {
     }
   }
 
-  const double cos_max = std::cos(o.max_normal_angle);
+  const double cos_max = std::cos(o.max_normal_angle_deg * M_PI / 180);
   for (const auto& bucket : buckets) {
     for (const Edge& e : bucket) {
       int ra = Find(clusters, e.a), rb = Find(clusters, e.b);

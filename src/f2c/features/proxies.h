@@ -3,7 +3,7 @@
 // Proxies"). Every grid cell with a normal starts as its own cluster; neighbouring cells are
 // considered in order of how well their normals agree (most similar first), and their
 // clusters merge when the clusters' planes agree:
-//   angle(N_a, N_b) <= max_normal_angle                   (N = mean normal of a cluster)
+//   angle(N_a, N_b) <= max_normal_angle_deg               (N = mean normal of a cluster)
 //   |N_a . (c_b - c_a)| <= max_distance, and the same from b's side   (c = centroid)
 //   sqrt(N^T Sigma N) <= max_rms_a + max_rms_b z^2        (the merged cluster's RMS
 //                                                          distance to its mean plane; z the
@@ -18,13 +18,14 @@
 #include <vector>
 
 #include "f2c/features/point_grid.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
 struct ProxyOptions {
   int min_points = 10;                         // cells (DESIGN.md: >= 10 points per cluster)
   double max_distance = 0.1;                   // metres (DESIGN.md)
-  double max_normal_angle = 0.7853981633974483;  // radians, pi/4 (DESIGN.md)
+  double max_normal_angle_deg = 45;             // DESIGN.md
   double max_rms_a = 0.005;                    // metres
   double max_rms_b = 0.004;                    // metres per square metre of depth
   // Only flat cells join clusters; otherwise the blended normals of cells on creases and
@@ -46,6 +47,25 @@ struct ProxyOptions {
   // this standard deviation (metres).
   double min_width = 0.01;
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Features (paper 4.1; DESIGN.md section 2)");
+    F2C_FIELD(v, min_points, "--proxy-min-points", AtLeast(3), "smallest planar proxy (grid cells)");
+    F2C_FIELD(v, max_distance, "--proxy-max-distance", Positive(), "clusters merge when their planes are this close (m)");
+    v.Field(max_normal_angle_deg, "max_normal_angle_deg", "--proxy-max-angle",
+            Bounds{.min = 0, .max = 90, .min_open = true, .max_open = true}, "...and their normals this close (deg)");
+    F2C_FIELD(v, max_rms_a, "", Positive(), "a plane's largest RMS residual a + b z^2: a (m)");
+    F2C_FIELD(v, max_rms_b, "", AtLeast(0), "...b (m per m^2)");
+    F2C_FIELD(v, max_curvature, "", Positive(), "largest curvature of a planar cluster");
+    F2C_FIELD(v, sensor_sigma_a, "--depth-noise-a", AtLeast(0),
+              "sensor depth noise sigma(z) = a + b (z - 0.4)^2 (m; Kinect v1 defaults; 0 and 0 for noise-free depth)");
+    F2C_FIELD(v, sensor_sigma_b, "--depth-noise-b", AtLeast(0), "...its b (m per m^2)");
+    F2C_FIELD(v, flat_noise_ratio, "", AtLeast(0), "flat clusters: residual within this many sensor sigmas");
+    F2C_FIELD(v, trim_sigmas, "", Positive(), "trimming: points beyond this many sigmas");
+    F2C_FIELD(v, min_trim_sigma, "", Positive(), "trimming: smallest sigma (m)");
+    F2C_FIELD(v, trim_iterations, "", AtLeast(0), "trimming rounds");
+    F2C_FIELD(v, min_width, "", AtLeast(0), "narrowest proxy (m)");
+  }
   void Check() const;  // InputError naming the field when out of range
 };
 

@@ -16,9 +16,7 @@
 namespace f2c {
 
 void FusionOptions::Check() const {
-  tsdf.Check();
-  if (every < 1) ThrowInputError("--fuse-every", "must be >= 1");
-  if (!(mesh.min_weight > 0 && std::isfinite(mesh.min_weight))) ThrowInputError("--mesh-min-weight", "must be positive");
+  CheckFields(*this);
 }
 
 std::vector<std::optional<Rigid3d>> PosesForFrames(const RgbdSequence& seq, const Trajectory& t,

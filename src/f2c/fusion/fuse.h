@@ -10,6 +10,7 @@
 #include "f2c/fusion/tsdf.h"
 #include "f2c/io/sequence.h"
 #include "f2c/io/trajectory.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -18,6 +19,12 @@ struct FusionOptions {
   MeshOptions mesh;
   int every = 1;  // fuse every n-th frame that has a pose (--fuse-every)
 
+  template <class V>
+  void Fields(V& v) {
+    F2C_NESTED(v, tsdf);
+    F2C_FIELD(v, every, "--fuse-every", AtLeast(1), "fuse every N-th frame that has a pose");
+    F2C_NESTED(v, mesh);
+  }
   void Check() const;
 };
 

@@ -16,6 +16,7 @@
 
 #include "f2c/fusion/tsdf.h"
 #include "f2c/io/ply.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -40,6 +41,13 @@ std::vector<std::array<int8_t, 3>> MarchingCubesCase(int pattern);
 struct MeshOptions {
   // A cell is meshed only where all 8 corners were observed at least this often.
   float min_weight = 1.0f;
+
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Mesh (TSDF fusion, marching cubes; docs/fusion.md)");
+    F2C_FIELD(v, min_weight, "--mesh-min-weight", Positive(), "mesh only where every voxel was seen this often");
+  }
+  void Check() const { CheckFields(*this); }
 };
 
 // Vertices (metres, world frame) with colours and normals (area-weighted face normals,

@@ -14,10 +14,9 @@
 namespace f2c {
 
 void TsdfOptions::Check() const {
-  if (!(voxel_size >= 0.001 && voxel_size <= 0.5)) ThrowInputError("--voxel-size", "must be in [0.001, 0.5] metres");
-  if (truncation_voxels < 1 || truncation_voxels > 64) ThrowInputError("--truncation-voxels", "must be in 1..64");
-  if (!(min_depth >= 0 && max_depth > min_depth && std::isfinite(max_depth))) {
-    ThrowInputError("--fuse-max-depth", "need 0 <= min depth < max depth, finite");
+  CheckFields(*this);
+  if (!(max_depth > min_depth)) {
+    ThrowInputError("--fuse-max-depth", fmt::format("must exceed the nearest depth ({}), got {}", min_depth, max_depth));
   }
 }
 

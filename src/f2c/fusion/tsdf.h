@@ -20,6 +20,7 @@
 #include "f2c/geometry/coord_table.h"
 #include "f2c/geometry/intrinsics.h"
 #include "f2c/geometry/rigid.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -30,6 +31,15 @@ struct TsdfOptions {
   double max_depth = 4.0;      // (--fuse-max-depth: far depth is noisy and blurs the surface)
 
   double Truncation() const { return voxel_size * truncation_voxels; }
+
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Mesh (TSDF fusion, marching cubes; docs/fusion.md)");
+    F2C_FIELD(v, voxel_size, "--voxel-size", Between(0.001, 0.5), "TSDF voxel edge (m)");
+    F2C_FIELD(v, truncation_voxels, "--truncation-voxels", Between(1, 64), "signed distances are truncated at this many voxels");
+    F2C_FIELD(v, min_depth, "", AtLeast(0), "depth nearer than this (m) is not fused");
+    F2C_FIELD(v, max_depth, "--fuse-max-depth", Positive(), "depth beyond this (m) is not fused");
+  }
   void Check() const;  // InputError naming the option
 };
 

@@ -123,10 +123,10 @@ TEST(TsdfVolume, SameVolumeForAnyThreadCount) {
 TEST(TsdfOptions, CheckNamesTheOption) {
   TsdfOptions o;
   o.voxel_size = 0;
-  EXPECT_EQ(testing::InputErrorMessage([&] { o.Check(); }), "--voxel-size: must be in [0.001, 0.5] metres");
+  EXPECT_EQ(testing::InputErrorMessage([&] { o.Check(); }), "--voxel-size: must be in [0.001, 0.5], got 0");
   o = {};
   o.max_depth = 0.1;
-  EXPECT_EQ(testing::InputErrorMessage([&] { o.Check(); }), "--fuse-max-depth: need 0 <= min depth < max depth, finite");
+  EXPECT_EQ(testing::InputErrorMessage([&] { o.Check(); }), "--fuse-max-depth: must exceed the nearest depth (0.3), got 0.1");
 }
 
 }  // namespace
