@@ -8,11 +8,13 @@
 #include <functional>
 #include <string>
 
+#include "f2c/eval/trajectory_error.h"
 #include "f2c/features/depth_features.h"
 #include "f2c/fusion/fuse.h"
 #include "f2c/io/sequence.h"
 #include "f2c/odometry/odometry.h"
 #include "f2c/refine/refine.h"
+#include "f2c/sim/simulate.h"
 
 namespace f2c::app {
 
@@ -64,8 +66,7 @@ struct EvaluateArgs {
   std::string estimate;
   std::string ground_truth;
   bool json = false;
-  double max_time_difference = 0.02;
-  double drift_min_seconds = 5.0;
+  EvaluationOptions evaluation;  // --max-time-difference, --drift-min-seconds
   // Ground-truth correspondences (the authors' format); empty: the dataset folder's
   // correspondences.txt when there is one.
   std::string correspondences;
@@ -80,12 +81,8 @@ int RunEvaluate(const EvaluateArgs& args);
 
 struct SimulateArgs {
   std::string output;
-  std::string scene = "apartment";
-  int frames = 900;
-  uint64_t seed = 0;
-  int correspondences = 400;
-  bool exact = false;              // no sensor noise
-  double depth_distortion = 0.0;   // low-frequency radial depth distortion k
+  sim::SimulateOptions options;  // --scene, --frames, --seed, --correspondences, --depth-distortion
+  bool exact = false;             // no sensor noise
   bool quiet = false;
 };
 int RunSimulate(const SimulateArgs& args);

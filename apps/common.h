@@ -11,16 +11,10 @@
 
 namespace f2c::app {
 
-// Rejects NaN and infinities, which CLI::Range lets through (every comparison with NaN is
-// false). Combine: ->check(CLI::Range(a, b) & Finite()).
-CLI::Validator Finite();
 
 // Versions of fine2coarse and its main libraries, for run.json.
 nlohmann::json Versions();
-nlohmann::json ToJson(const IoOptions& io);
 
-// --intrinsics, --every, --first, --last, --sequence.
-void AddFrameSelection(CLI::App* cmd, IoOptions* io);
 nlohmann::json ToJson(const FusionTimings& timings, const PlyPoints& mesh);
 
 }  // namespace f2c::app

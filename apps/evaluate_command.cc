@@ -14,6 +14,7 @@
 #include "f2c/util/file.h"
 #include "f2c/io/ply.h"
 #include "apps/common.h"
+#include "apps/fields_cli.h"
 #include "f2c/eval/correspondence_error.h"
 #include "f2c/eval/trajectory_error.h"
 #include "f2c/io/correspondences.h"
@@ -69,6 +70,7 @@ json StatsJson(const ErrorStatistics& s) {
 }  // namespace
 
 int RunEvaluate(const EvaluateArgs& args) {
+  args.evaluation.Check();  // before any file is read
   std::optional<RgbdSequence> dataset;
   const Trajectory gt = LoadGroundTruth(args.ground_truth, args.io, &dataset);
   std::vector<double> frame_timestamps;
@@ -85,9 +87,7 @@ int RunEvaluate(const EvaluateArgs& args) {
     }
     also.emplace_back(spec.substr(0, eq), LoadEstimate(spec.substr(eq + 1), gt, frame_timestamps));
   }
-  EvaluationOptions options;
-  options.max_time_difference = args.max_time_difference;
-  options.drift_min_seconds = args.drift_min_seconds;
+  const EvaluationOptions& options = args.evaluation;
   const EvaluationResult r = Evaluate(est, gt, options);
 
   // The authors' metric on ground-truth correspondences, when there are some.
@@ -101,7 +101,7 @@ int RunEvaluate(const EvaluateArgs& args) {
     if (frame_timestamps.empty()) {
       ThrowInputError(correspondence_file, "correspondences name frames: give --ground-truth as the dataset folder");
     }
-    corr = CorrespondenceError(PosesAtFrames(est, frame_timestamps, args.max_time_difference),
+    corr = CorrespondenceError(PosesAtFrames(est, frame_timestamps, args.evaluation.max_time_difference),
                                ReadCorrespondences(correspondence_file), correspondence_file.string());
   }
   // A mesh made with the estimate's poses, moved into the truth's frame by ATE's alignment.
@@ -143,7 +143,7 @@ int RunEvaluate(const EvaluateArgs& args) {
       in.estimates.push_back({also[i].first, also[i].second, SeriesColor(1 + static_cast<int>(i % 7))});
     }
     in.estimates.push_back({args.name, est, SeriesColor(0)});
-    in.max_time_difference = args.max_time_difference;
+    in.max_time_difference = args.evaluation.max_time_difference;
     if (!correspondence_file.empty() && !frame_timestamps.empty()) {
       in.correspondences = ReadCorrespondences(correspondence_file);
       in.frame_timestamps = frame_timestamps;
@@ -241,14 +241,8 @@ Subcommand AddEvaluateCommand(CLI::App* app) {
   cmd->add_option("--also", args->also,
                   "NAME=FILE: another trajectory (T0, a peer's result) drawn beside the estimate in the report; "
                   "repeatable");
-  AddFrameSelection(cmd, &args->io);
-  cmd->add_option("--max-time-difference", args->max_time_difference,
-                       "association window (s)")
-      ->capture_default_str();
-  cmd->add_option("--drift-min-seconds", args->drift_min_seconds,
-                  "rotation drift: the relative rotation error over all pose pairs at least this far apart "
-                  "in time (s)")
-      ->capture_default_str();
+  AddFieldFlags(cmd, &args->io);
+  AddFieldFlags(cmd, &args->evaluation);  // eval/trajectory_error.h
 
   return {cmd, [args] { return RunEvaluate(*args); }};
 }

@@ -24,6 +24,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 int RunFeatures(const FeaturesArgs& args) {
+  args.features.Check();  // before any file is read
   const fs::path out = args.output;
   const RgbdSequence seq = ReadSequence(args.input, args.io);  // a bad input leaves no output folder
   EnsureWritableDirectory(out);
@@ -57,7 +58,7 @@ int RunFeatures(const FeaturesArgs& args) {
                        {"layout", LayoutName(seq.layout)},
                        {"frames", n},
                        {"versions", Versions()},
-                       {"options", {{"io", ToJson(args.io)}, {"features", FieldsToJson(args.features)}}},
+                       {"options", {{"io", FieldsToJson(args.io)}, {"features", FieldsToJson(args.features)}}},
                        {"timings", ToJson(timings, n)},
                        {"statistics", stats}};
   WriteFileAtomic(out / "features.json", report.dump(2) + "\n");
@@ -77,7 +78,7 @@ Subcommand AddFeaturesCommand(CLI::App* app) {
                   "OUTDIR/features.f2cf (reused when inputs and options match) and features.json");
   cmd->add_option("INPUT", args->input, "dataset folder or .conf")->required();
   cmd->add_option("-o,--output", args->output, "output folder")->required();
-  AddFrameSelection(cmd, &args->io);
+  AddFieldFlags(cmd, &args->io);
   AddFieldFlags(cmd, &args->features);
   cmd->add_flag("--images", args->images, "also draw each frame's proxies and features to OUTDIR/images/");
   cmd->add_flag("--ply", args->ply, "also write each frame's features as points to OUTDIR/ply/");

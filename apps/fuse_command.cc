@@ -79,7 +79,7 @@ Subcommand AddFuseCommand(CLI::App* app) {
   cmd->add_option("--trajectory", args->trajectory, "the poses: TUM text, Redwood .log or the authors' .conf")
       ->required();
   cmd->add_option("-o,--output", args->output, "the mesh, a .ply file")->required();
-  AddFrameSelection(cmd, &args->io);
+  AddFieldFlags(cmd, &args->io);
   cmd->add_option("--max-time-difference", args->io.max_time_difference,
                   "a TUM pose belongs to the frame within this many seconds")
       ->capture_default_str();

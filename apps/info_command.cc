@@ -9,6 +9,7 @@
 
 #include "apps/commands.h"
 #include "apps/common.h"
+#include "apps/fields_cli.h"
 #include "f2c/io/image.h"
 
 namespace f2c::app {
@@ -88,7 +89,7 @@ Subcommand AddInfoCommand(CLI::App* app) {
   CLI::App* cmd = app->add_subcommand("info", "what a dataset folder holds: layout, frames, "
                                                   "intrinsics, depth range, ground truth");
   cmd->add_option("INPUT", args->input, "dataset folder or .conf")->required();
-  AddFrameSelection(cmd, &args->io);
+  AddFieldFlags(cmd, &args->io);
   cmd->add_flag("--json", args->json,
                 "print JSON instead: layout, intrinsics, depth scale, ground truth and every selected frame's time "
                 "stamp and files");

@@ -230,7 +230,7 @@ int RunRegister(const RegisterArgs& args) {
       {"intrinsics", {{"fx", k.fx}, {"fy", k.fy}, {"cx", k.cx}, {"cy", k.cy}, {"source", seq.intrinsics_source}}},
       {"versions", Versions()},
       {"options",
-       {{"io", ToJson(args.io)},
+       {{"io", FieldsToJson(args.io)},
         {"odometry", FieldsToJson(args.odometry)},
         {"features", args.extract_features ? FieldsToJson(args.features) : json(nullptr)},
         {"refine", index ? FieldsToJson(args.refine) : json(nullptr)},
@@ -272,7 +272,7 @@ Subcommand AddRegisterCommand(CLI::App* app) {
   cmd->add_option("INPUT", args->input, "dataset folder (TUM, 7-Scenes/3DMatch, Redwood/Open3D, SUN3D) or .conf")
       ->required();
   cmd->add_option("-o,--output", args->output, "output folder")->required();
-  AddFrameSelection(cmd, &args->io);
+  AddFieldFlags(cmd, &args->io);
   AddFieldFlags(cmd, &args->odometry);  // odometry/odometry.h
   AddFieldFlags(cmd, &args->features);
   auto flags = std::make_shared<RegisterFlags>();
@@ -309,7 +309,11 @@ Subcommand AddRegisterCommand(CLI::App* app) {
       spdlog::info("options written to {}", *write_config);
     }
     args->run_refinement = flags->stop_after == "refine" && !flags->no_features;
-    if (args->run_refinement) args->refine.Check();  // before minutes of odometry
+    // Every stage's options, once, before the input is read or minutes of odometry run.
+    args->io.Check();
+    args->odometry.Check();
+    if (!flags->no_features) args->features.Check();
+    if (args->run_refinement) args->refine.Check();
     args->fuse_mesh = !flags->no_mesh && flags->stop_after != "odometry";
     args->write_report = !flags->no_report;
     if (args->fuse_mesh) args->fusion.Check();

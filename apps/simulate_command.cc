@@ -8,6 +8,7 @@
 
 #include "apps/commands.h"
 #include "apps/common.h"
+#include "apps/fields_cli.h"
 #include "f2c/sim/simulate.h"
 #include "f2c/util/timer.h"
 
@@ -15,13 +16,11 @@ namespace f2c::app {
 namespace fs = std::filesystem;
 
 int RunSimulate(const SimulateArgs& args) {
-  sim::SimulateOptions options;
-  options.scene = args.scene;
-  options.seed = args.seed;
-  options.walk.frames = args.frames;
-  options.correspondences = args.correspondences;
-  if (args.exact) options.sensor = sim::SensorOptions::Exact();
-  options.sensor.radial_distortion = args.depth_distortion;
+  sim::SimulateOptions options = args.options;
+  if (args.exact) {  // no noise, holes or blur; the distortion is a flag of its own
+    options.sensor = sim::SensorOptions::Exact();
+    options.sensor.radial_distortion = args.options.sensor.radial_distortion;
+  }
   Timer timer;
   const Trajectory poses = sim::Simulate(args.output, options, args.quiet);
   double path = 0;
@@ -30,7 +29,7 @@ int RunSimulate(const SimulateArgs& args) {
   }
   std::printf("wrote %s: %d frames of '%s' (%.1f m of camera path) in %.1f s, TUM layout with "
               "camera-intrinsics.txt, groundtruth.txt, correspondences.txt\n",
-              args.output.c_str(), args.frames, args.scene.c_str(), path, timer.Seconds());
+              args.output.c_str(), options.walk.frames, options.scene.c_str(), path, timer.Seconds());
   return 0;
 }
 
@@ -40,9 +39,9 @@ int RunDemo(const DemoArgs& args) {
   std::printf("fine2coarse demo: simulating an apartment scan, registering it, fusing a mesh, evaluating it\n");
   SimulateArgs sim_args;
   sim_args.output = (root / "scan").string();
-  sim_args.scene = "apartment";
-  sim_args.frames = args.frames;
-  sim_args.seed = args.seed;
+  sim_args.options.scene = "apartment";
+  sim_args.options.walk.frames = args.frames;
+  sim_args.options.seed = args.seed;
   RunSimulate(sim_args);
   RegisterArgs reg;
   reg.input = sim_args.output;
@@ -66,20 +65,9 @@ Subcommand AddSimulateCommand(CLI::App* app) {
   auto args = std::make_shared<SimulateArgs>();
   CLI::App* cmd = app->add_subcommand(
       "simulate", "render a synthetic multi-room RGB-D scan with exact ground truth (TUM layout)");
-  cmd->add_option("--scene", args->scene, "two-rooms, apartment (its living room a trapezoid, side walls 14 deg off square), apartment-square (the same at 6 deg) or corridor")->capture_default_str();
-  cmd->add_option("--frames", args->frames, "frames at 30 Hz (at most 100,000: 55 minutes of walking)")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 100000));
-  cmd->add_option("--seed", args->seed, "furniture, walk and noise")->capture_default_str();
   cmd->add_option("-o,--output", args->output, "output folder")->required();
-  cmd->add_option("--correspondences", args->correspondences, "ground-truth correspondences to write (at most 1,000,000)")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 1000000));
+  AddFieldFlags(cmd, &args->options);  // sim/simulate.h
   cmd->add_flag("--exact", args->exact, "no sensor noise, holes or blur");
-  cmd->add_option("--depth-distortion", args->depth_distortion,
-                      "low-frequency depth distortion k: z *= 1 + k r^2 (0: off; within -1..1)")
-      ->capture_default_str()
-      ->check(CLI::Range(-1.0, 1.0) & Finite());
   cmd->add_flag("-q,--quiet", args->quiet, "no progress output");
 
   return {cmd, [args] {

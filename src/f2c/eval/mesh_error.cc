@@ -14,9 +14,7 @@
 namespace f2c {
 
 void MeshErrorOptions::Check() const {
-  if (!(completeness_distance > 0 && sample_spacing > 0 && max_distance > 0)) {
-    ThrowInputError("mesh evaluation", "distances must be positive");
-  }
+  CheckFields(*this);
 }
 
 double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,

@@ -7,6 +7,7 @@
 
 #include "f2c/eval/trajectory_error.h"
 #include "f2c/io/ply.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -14,6 +15,14 @@ struct MeshErrorOptions {
   double completeness_distance = 0.02;  // metres
   double sample_spacing = 0.02;         // metres between the true surface's samples (about)
   double max_distance = 0.25;           // metres; farther vertices count as this far (and as "far")
+
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Evaluation");
+    F2C_FIELD(v, completeness_distance, "", Positive(), "a true surface point is covered within this (m)");
+    F2C_FIELD(v, sample_spacing, "", Positive(), "spacing of the true surfaces' samples (m)");
+    F2C_FIELD(v, max_distance, "", Positive(), "farther vertices count as this far (m)");
+  }
   void Check() const;
 };
 

@@ -13,11 +13,7 @@
 namespace f2c {
 
 void EvaluationOptions::Check() const {
-  if (!(max_time_difference > 0)) ThrowInputError("max_time_difference", "must be positive");
-  if (!(rpe_delta_seconds > 0)) ThrowInputError("rpe_delta_seconds", "must be positive");
-  if (rpe_delta_frames < 1) ThrowInputError("rpe_delta_frames", "must be >= 1");
-  if (!(drift_min_seconds >= 0)) ThrowInputError("--drift-min-seconds", "must be >= 0");
-  if (drift_max_poses < 2) ThrowInputError("drift_max_poses", "must be >= 2");
+  CheckFields(*this);
 }
 
 ErrorStatistics ComputeStatistics(std::vector<double> e) {

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "f2c/io/trajectory.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -36,6 +37,17 @@ struct EvaluationOptions {
   // Rotation drift over all pairs of at most this many poses, evenly spaced (every pose when
   // there are fewer): the pairs grow as the square of the poses.
   int drift_max_poses = 2000;
+
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Evaluation");
+    F2C_FIELD(v, max_time_difference, "--max-time-difference", Positive(), "association window (s)");
+    F2C_FIELD(v, rpe_delta_seconds, "", Positive(), "RPE per this many seconds");
+    F2C_FIELD(v, rpe_delta_frames, "", AtLeast(1), "RPE per this many frames");
+    F2C_FIELD(v, drift_min_seconds, "--drift-min-seconds", AtLeast(0),
+              "rotation drift: the relative rotation error over all pose pairs at least this far apart in time (s)");
+    F2C_FIELD(v, drift_max_poses, "", AtLeast(2), "rotation drift: poses sampled at most");
+  }
   void Check() const;
 };
 

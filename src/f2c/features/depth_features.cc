@@ -141,7 +141,6 @@ Vec3f TangentDirection(const PointGrid& g, const CameraIntrinsics& k, int cell, 
 
 FrameFeatures ExtractFrameFeatures(const cv::Mat& depth, const CameraIntrinsics& k, const FeatureOptions& o,
                                    FeatureDebug* debug) {
-  o.Check();
   FrameFeatures out;
   PointGrid g = BuildPointGrid(depth, k, o.grid);
   const int n = g.width * g.height;

@@ -84,7 +84,8 @@ struct FeatureDebug {
 };
 
 // `depth` is CV_32F metres (0, NaN, inf = invalid). Never throws on bad depth: a frame
-// without usable depth gives empty results and a note.
+// without usable depth gives empty results and a note. Per frame, so `options` is not checked
+// here: the stage checks it once (FeatureExtraction), as a caller of this alone must.
 FrameFeatures ExtractFrameFeatures(const cv::Mat& depth, const CameraIntrinsics& intrinsics,
                                    const FeatureOptions& options, FeatureDebug* debug = nullptr);
 

@@ -115,7 +115,6 @@ bool SmallestEigenvector(const Eigen::Matrix3d& c, Eigen::Vector3d* normal, doub
 }  // namespace
 
 PointGrid BuildPointGrid(const cv::Mat& depth, const CameraIntrinsics& k, const PointGridOptions& o) {
-  o.Check();
   F2C_CHECK(depth.type() == CV_32F, "depth is CV_32F metres");
   std::optional<SampledBilateral> bilateral;
   if (o.bilateral) bilateral.emplace(depth, o);

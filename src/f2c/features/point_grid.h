@@ -65,7 +65,8 @@ struct PointGrid {
   int ValidCount() const;
 };
 
-// `depth` is CV_32F metres; zero, negative, NaN and infinite values are invalid.
+// `depth` is CV_32F metres; zero, negative, NaN and infinite values are invalid. `options` as
+// checked by the caller (per frame: the feature stage checks once).
 PointGrid BuildPointGrid(const cv::Mat& depth, const CameraIntrinsics& intrinsics, const PointGridOptions& options);
 
 }  // namespace f2c

@@ -63,7 +63,6 @@ struct Edge {
 }  // namespace
 
 ProxySegmentation ExtractProxies(const PointGrid& g, const ProxyOptions& o) {
-  o.Check();
   const int n = g.width * g.height;
   std::vector<uint8_t> flat(n);
   for (int i = 0; i < n; ++i) flat[i] = IsFlat(g, i, o);

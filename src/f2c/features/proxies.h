@@ -93,6 +93,7 @@ struct ProxySegmentation {
   std::vector<int32_t> labels;       // per grid cell: proxy index, or -1
 };
 
+// Per frame: `options` as checked by the caller (the feature stage checks once).
 ProxySegmentation ExtractProxies(const PointGrid& grid, const ProxyOptions& options);
 
 }  // namespace f2c

@@ -28,13 +28,10 @@ std::string LayoutName(DatasetLayout layout) {
 }
 
 void IoOptions::Check() const {
-  if (every < 1) ThrowInputError("--every", fmt::format("must be >= 1, got {}", every));
-  if (first < 0) ThrowInputError("--first", fmt::format("must be >= 0, got {}", first));
+  CheckFields(*this);
   if (last >= 0 && last < first) {
     ThrowInputError("--last", fmt::format("{} is before --first {}", last, first));
   }
-  if (!(max_time_difference > 0)) ThrowInputError("max_time_difference", "must be positive");
-  if (!(assumed_fps > 0)) ThrowInputError("assumed_fps", "must be positive");
   if (!intrinsics.empty()) ParseIntrinsics(intrinsics, "--intrinsics");
 }
 

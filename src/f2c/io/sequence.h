@@ -10,6 +10,7 @@
 
 #include "f2c/geometry/intrinsics.h"
 #include "f2c/io/trajectory.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -62,6 +63,20 @@ struct IoOptions {
   // Check every listed image exists when reading (cheap; catches missing frames up front).
   bool check_files = true;
 
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Frames");
+    F2C_FIELD(v, intrinsics, "--intrinsics", {},
+              "fx,fy,cx,cy or a preset: tum-fr1, tum-fr2, tum-fr3, primesense (TUM folders carry none; overrides a "
+              "dataset's own)");
+    F2C_FIELD(v, every, "--every", AtLeast(1), "use every N-th frame");
+    F2C_FIELD(v, first, "--first", AtLeast(0), "first frame (0-based)");
+    F2C_FIELD(v, last, "--last", AtLeast(-1), "last frame, inclusive (-1: the end)");
+    F2C_FIELD(v, sequence, "--sequence", {}, "7-Scenes/3DMatch: read only this seq-XX subfolder (default: all, joined)");
+    F2C_FIELD(v, max_time_difference, "", Positive(), "TUM: colour and depth images this close in time (s) are a frame");
+    F2C_FIELD(v, assumed_fps, "", Positive(), "frame rate of layouts without timestamps");
+    F2C_FIELD(v, check_files, "", {}, "check that every listed image exists");
+  }
   void Check() const;  // InputError naming the option when out of range
 };
 

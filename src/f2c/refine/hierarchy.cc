@@ -67,7 +67,6 @@ double MergeCost(const Cluster& a, const Cluster& b, const HierarchyOptions& opt
 }  // namespace
 
 std::vector<PlaneCluster> ClusterCoplanar(const std::vector<ClusterItem>& items, const HierarchyOptions& options) {
-  options.Check();
   // First pass: largest first, each into the best agreeing cluster within the tighter
   // thresholds, or a new one.
   std::vector<int> order(items.size());

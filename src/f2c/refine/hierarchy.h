@@ -63,6 +63,7 @@ struct PlaneCluster {
 };
 
 // Coplanar clusters of the items, heaviest first (ties: lowest member first). Deterministic.
+// Per window: `options` as checked by the caller (BuildProxyHierarchy checks once).
 std::vector<PlaneCluster> ClusterCoplanar(const std::vector<ClusterItem>& items, const HierarchyOptions& options);
 
 struct HierarchyStats {

@@ -10,9 +10,7 @@
 namespace f2c {
 
 void SliceOptions::Check() const {
-  if (!(thickness > 0 && std::isfinite(thickness))) ThrowInputError("slice thickness", "must be positive");
-  if (!(bin > 0 && std::isfinite(bin))) ThrowInputError("slice bin", "must be positive");
-  if (!(wall_max_cos > 0 && wall_max_cos < 1)) ThrowInputError("slice wall_max_cos", "must be in (0, 1)");
+  CheckFields(*this);
 }
 
 SliceBand ChooseSliceBand(const std::vector<SliceFrame>& frames, const std::vector<std::optional<Rigid3d>>& poses,

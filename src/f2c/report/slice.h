@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "f2c/geometry/rigid.h"
+#include "f2c/util/fields.h"
 
 namespace f2c {
 
@@ -20,7 +21,16 @@ struct SliceOptions {
   double thickness = 0.2;      // m: the slab's height
   double bin = 0.1;            // m: height bins when choosing where the slab goes
   double wall_max_cos = 0.3;   // a wall point: |normal . up| below this (more than 72 degrees from up)
-  void Check() const;          // InputError naming the field when out of range
+
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Report");
+    F2C_FIELD(v, thickness, "", Positive(), "the slab's height (m)");
+    F2C_FIELD(v, bin, "", Positive(), "height bins for the slab's place (m)");
+    v.Field(wall_max_cos, "wall_max_cos", "", Bounds{.min = 0, .max = 1, .min_open = true, .max_open = true},
+            "a wall point: |normal . up| below this");
+  }
+  void Check() const;  // InputError naming the field when out of range
 };
 
 // A slab: the points whose height (point . up) is within thickness/2 of `height`.

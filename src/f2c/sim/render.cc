@@ -204,12 +204,8 @@ SensorOptions SensorOptions::Exact() {
 }
 
 void SensorOptions::Check() const {
-  if (!(baseline > 0 && disparity_step > 0)) ThrowInputError("sensor", "baseline and disparity step must be positive");
-  if (!(sigma_a >= 0 && sigma_b >= 0)) ThrowInputError("sensor", "noise sigmas must be >= 0");
-  if (!(min_depth >= 0 && max_depth > min_depth)) ThrowInputError("sensor", "need 0 <= min_depth < max_depth");
-  if (!(max_incidence_deg > 0 && max_incidence_deg <= 90)) ThrowInputError("sensor", "max_incidence_deg in (0, 90]");
-  if (!(edge_jump > 0)) ThrowInputError("sensor", "edge_jump must be positive");
-  if (!(color_sigma >= 0 && blur_sigma >= 0)) ThrowInputError("sensor", "colour sigmas must be >= 0");
+  CheckFields(*this);
+  if (!(max_depth > min_depth)) ThrowInputError("max_depth", fmt::format("must exceed min_depth ({}), got {}", min_depth, max_depth));
 }
 
 Renderer::Renderer(const Scene& scene) : scene_(scene), bvh_(std::make_unique<Bvh>()) {

@@ -9,6 +9,7 @@
 #include "f2c/geometry/intrinsics.h"
 #include "f2c/geometry/rigid.h"
 #include "f2c/sim/scene.h"
+#include "f2c/util/fields.h"
 
 namespace f2c::sim {
 
@@ -42,6 +43,28 @@ struct SensorOptions {
 
   // Everything off: exact depth and colour.
   static SensorOptions Exact();
+
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Simulation");
+    F2C_FIELD(v, depth_noise, "", {}, "structured-light depth noise and quantisation");
+    F2C_FIELD(v, baseline, "", Positive(), "projector baseline (m)");
+    F2C_FIELD(v, disparity_step, "", Positive(), "disparity quantisation (pixels)");
+    F2C_FIELD(v, sigma_a, "", AtLeast(0), "depth noise a (m)");
+    F2C_FIELD(v, sigma_b, "", AtLeast(0), "depth noise b (m per m^2)");
+    F2C_FIELD(v, min_depth, "", AtLeast(0), "nearest depth seen (m)");
+    F2C_FIELD(v, max_depth, "", Positive(), "farthest depth seen (m)");
+    F2C_FIELD(v, drop_grazing, "", {}, "no depth at grazing incidence");
+    F2C_FIELD(v, max_incidence_deg, "", AboveUpTo(0, 90), "...beyond this incidence (deg)");
+    F2C_FIELD(v, drop_depth_edges, "", {}, "no depth beside depth edges");
+    F2C_FIELD(v, edge_jump, "", Positive(), "...jumps above this (m)");
+    F2C_FIELD(v, color_noise, "", {}, "colour noise");
+    F2C_FIELD(v, color_sigma, "", AtLeast(0), "...its sigma (grey levels)");
+    F2C_FIELD(v, blur, "", {}, "colour blur");
+    F2C_FIELD(v, blur_sigma, "", AtLeast(0), "...its sigma (pixels)");
+    F2C_FIELD(v, radial_distortion, "--depth-distortion", Between(-1, 1),
+              "low-frequency depth distortion k: z *= 1 + k r^2 (0: off)");
+  }
   void Check() const;
 };
 

@@ -16,10 +16,8 @@ namespace f2c::sim {
 namespace fs = std::filesystem;
 
 void SimulateOptions::Check() const {
+  CheckFields(*this);
   intrinsics.Validate("--intrinsics");
-  sensor.Check();
-  walk.Check();
-  if (correspondences < 0) ThrowInputError("--correspondences", "must be >= 0");
 }
 
 namespace {

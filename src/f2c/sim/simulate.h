@@ -12,6 +12,7 @@
 #include "f2c/io/ply.h"
 #include "f2c/sim/render.h"
 #include "f2c/sim/walk.h"
+#include "f2c/util/fields.h"
 
 namespace f2c::sim {
 
@@ -22,6 +23,19 @@ struct SimulateOptions {
   SensorOptions sensor;
   WalkOptions walk;                        // walk.frames = number of frames
   int correspondences = 400;               // about half nearby pairs, half loop closures
+
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Simulation");
+    F2C_FIELD(v, scene, "--scene", {},
+              "two-rooms, apartment (its living room a trapezoid, side walls 14 deg off square), apartment-square (the "
+              "same at 6 deg) or corridor");
+    F2C_FIELD(v, seed, "--seed", {}, "furniture, walk and noise");
+    F2C_FIELD(v, correspondences, "--correspondences", Between(0, 1000000),
+              "ground-truth correspondences to write (at most 1,000,000)");
+    F2C_NESTED(v, walk);
+    F2C_NESTED(v, sensor);
+  }
   void Check() const;
 };
 

@@ -47,9 +47,7 @@ struct Wobble {
 }  // namespace
 
 void WalkOptions::Check() const {
-  if (frames < 1) ThrowInputError("--frames", "must be >= 1");
-  if (!(fps > 0 && speed > 0)) ThrowInputError("walk", "fps and speed must be positive");
-  if (!(max_turn_rate_deg > 0)) ThrowInputError("walk", "max_turn_rate_deg must be positive");
+  CheckFields(*this);
 }
 
 Trajectory GenerateWalk(const Scene& scene, const WalkOptions& o) {

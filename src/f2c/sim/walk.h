@@ -7,6 +7,7 @@
 
 #include "f2c/io/trajectory.h"
 #include "f2c/sim/scene.h"
+#include "f2c/util/fields.h"
 
 namespace f2c::sim {
 
@@ -25,6 +26,22 @@ struct WalkOptions {
   double shake_translation = 0.004;  // metres (hand tremor, smooth)
   double shake_rotation_deg = 0.4;
   uint64_t seed = 0;
+
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Simulation");
+    F2C_FIELD(v, frames, "--frames", Between(1, 100000), "frames at 30 Hz (at most 100,000: 55 minutes of walking)");
+    F2C_FIELD(v, fps, "", Positive(), "frame rate (Hz)");
+    F2C_FIELD(v, speed, "", Positive(), "walking speed (m/s)");
+    F2C_FIELD(v, eye_height, "", Positive(), "camera height (m)");
+    F2C_FIELD(v, pitch_deg, "", Between(-90, 90), "camera pitch (deg)");
+    F2C_FIELD(v, sweep_deg, "", Between(0, 180), "head sweep amplitude (deg)");
+    F2C_FIELD(v, sweep_period, "", Positive(), "head sweep period (s)");
+    F2C_FIELD(v, max_turn_rate_deg, "", Positive(), "fastest body turn (deg/s)");
+    F2C_FIELD(v, shake_translation, "", AtLeast(0), "hand shake (m)");
+    F2C_FIELD(v, shake_rotation_deg, "", AtLeast(0), "hand shake (deg)");
+    F2C_FIELD(v, seed, "", {}, "seed of the walk");
+  }
   void Check() const;
 };
 
