@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <atomic>
+#include <cstdint>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
@@ -347,10 +348,25 @@ nlohmann::json ToJson(const PairAlignment& p) {
           {"overlap_rmse", p.overlap_rmse}};
 }
 
+namespace {
+
+// A whole number within int's range. nlohmann's get<int> turns 3.5 into 3 silently and 2e89
+// into undefined behaviour (a fuzz finding, BENCHMARKS.md).
+int WholeNumber(const nlohmann::json& j, const char* key) {
+  const nlohmann::json& v = j.at(key);
+  if (!v.is_number_integer()) throw std::invalid_argument(std::string(key) + " is not a whole number");
+  const bool fits = v.is_number_unsigned() ? v.get<uint64_t>() <= uint64_t{INT32_MAX}
+                                           : v.get<int64_t>() >= INT32_MIN && v.get<int64_t>() <= INT32_MAX;
+  if (!fits) throw std::invalid_argument(std::string(key) + " is out of range");
+  return static_cast<int>(v.get<int64_t>());
+}
+
+}  // namespace
+
 PairAlignment PairAlignmentFromJson(const nlohmann::json& j) {
   PairAlignment p;
-  p.frame = j.at("frame").get<int>();
-  p.reference = j.value("reference", p.frame - 1);
+  p.frame = WholeNumber(j, "frame");
+  p.reference = j.contains("reference") ? WholeNumber(j, "reference") : p.frame - 1;
   p.keyframe = j.value("keyframe", false);
   if (p.reference < 0 || p.reference >= p.frame) throw std::invalid_argument("reference must precede frame");
   const auto m = j.at("prev_from_curr").get<std::vector<double>>();
@@ -377,13 +393,13 @@ PairAlignment PairAlignmentFromJson(const nlohmann::json& j) {
   } else {
     throw std::invalid_argument("unknown method " + method);
   }
-  p.keypoints_prev = j.at("keypoints_prev").get<int>();
-  p.keypoints_curr = j.at("keypoints_curr").get<int>();
-  p.matches = j.at("matches").get<int>();
-  p.inliers = j.at("inliers").get<int>();
+  p.keypoints_prev = WholeNumber(j, "keypoints_prev");
+  p.keypoints_curr = WholeNumber(j, "keypoints_curr");
+  p.matches = WholeNumber(j, "matches");
+  p.inliers = WholeNumber(j, "inliers");
   p.inlier_rmse = j.at("inlier_rmse").get<double>();
   p.fitness = j.at("fitness").get<double>();
-  p.degenerate = j.value("degenerate", 0);
+  p.degenerate = j.contains("degenerate") ? WholeNumber(j, "degenerate") : 0;
   p.overlap_rmse = j.at("overlap_rmse").get<double>();
   if (p.keypoints_prev < 0 || p.keypoints_curr < 0 || p.matches < 0 || p.inliers < 0 || p.inliers > p.matches) {
     throw std::invalid_argument("negative or inconsistent counts");

@@ -21,7 +21,7 @@ PairCache::PairCache(std::filesystem::path path, std::string context)
   if (!enabled() || !std::filesystem::exists(path_)) return;
   try {
     const auto j = nlohmann::json::parse(ReadFileToString(path_));
-    if (j.at("version").get<int>() != kCacheVersion) {
+    if (j.at("version") != kCacheVersion) {  // json equality: no conversion of a damaged number
       spdlog::warn("{}: cache of another version; recomputing", path_.string());
       return;
     }

@@ -73,6 +73,12 @@ TEST(PairAlignmentJson, DamagedEntriesAreRefusedWithTheReason) {
   EXPECT_EQ(Refusal(with("fitness", 1.5)), "fitness outside [0, 1]");
   EXPECT_EQ(Refusal(with("inliers", 500)), "negative or inconsistent counts");
   EXPECT_EQ(Refusal(with("inlier_rmse", -1)), "an RMSE is negative or not finite");
+  // Counts that are not whole numbers within int (a fuzz finding: 2.3e89 was converted with
+  // undefined behaviour, 3.5 silently to 3).
+  EXPECT_EQ(Refusal(with("matches", 2.3e89)), "matches is not a whole number");
+  EXPECT_EQ(Refusal(with("keypoints_prev", 3.5)), "keypoints_prev is not a whole number");
+  EXPECT_EQ(Refusal(with("frame", uint64_t{1} << 40)), "frame is out of range");
+  EXPECT_EQ(Refusal(with("degenerate", "yes")), "degenerate is not a whole number");
   EXPECT_NE(Refusal(with("prev_from_curr", nullptr)), "");  // NaN is written as null
   EXPECT_EQ(Refusal(ToJson(SomePair())), "");
 }
