@@ -53,8 +53,13 @@ TEST(ExtractSiftWithDepth, DepthRangeDropsKeypoints) {
   const View view = RenderView();
   const cv::Mat& gray = view.gray;
   SiftOptions options;
+  const size_t all = ExtractSiftWithDepth(gray, view.depth, k, options).size();
+  ASSERT_GT(all, 100u);
   options.max_depth = 2.0;
   const SiftFeatures f = ExtractSiftWithDepth(gray, view.depth, k, options);
+  // Some keypoints survive (the loop below checks something) and some are dropped.
+  ASSERT_GT(f.size(), 10u);
+  EXPECT_LT(f.size(), all);
   for (const auto& p : f.points_in_camera) EXPECT_LE(p.z(), 2.0);
   options.min_depth = 10.0;
   options.max_depth = 20.0;

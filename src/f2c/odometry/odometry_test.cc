@@ -4,6 +4,7 @@
 
 #include <map>
 #include <mutex>
+#include <opencv2/imgcodecs.hpp>
 
 #include "f2c/eval/trajectory_error.h"
 #include "f2c/io/image.h"
@@ -89,6 +90,27 @@ TEST(AlignConsecutive, WithoutFallbackTexturelessPairsAssumeThePreviousMotion) {
   for (const PairAlignment& pair : odometry.pairs) {
     EXPECT_EQ(pair.method, AlignmentMethod::kMotionPrior);
     EXPECT_TRUE(pair.prev_from_curr.matrix().isIdentity());  // no motion known before frame 1
+  }
+}
+
+// The prior is the previous pair's motion, not identity: the first pair is aligned by SIFT,
+// then the colour goes blank (no keypoints) and, without ICP, each later pair repeats it.
+TEST(AlignConsecutive, WithoutFallbackTheLastMeasuredMotionIsPassedOn) {
+  const RgbdSequence seq = WriteAndRead("odometry_prior_passed", SyntheticScene(), 4);
+  const cv::Mat blank(480, 640, CV_8UC3, cv::Scalar(128, 128, 128));
+  for (int i : {2, 3}) ASSERT_TRUE(cv::imwrite(seq.frames[i].color_path.string(), blank));
+  OdometryOptions options;
+  options.icp_fallback = false;
+  OdometryRun run;
+  run.quiet = true;
+  const Odometry odometry = AlignConsecutive(seq, options, run);
+  ASSERT_EQ(odometry.pairs.size(), 3u);
+  EXPECT_EQ(odometry.pairs[0].method, AlignmentMethod::kSift);
+  const Rigid3d& measured = odometry.pairs[0].prev_from_curr;
+  EXPECT_GT(measured.translation().norm(), 0.02);  // the sweep's 3 cm per frame
+  for (int k : {1, 2}) {
+    EXPECT_EQ(odometry.pairs[k].method, AlignmentMethod::kMotionPrior) << k;
+    EXPECT_TRUE(odometry.pairs[k].prev_from_curr.isApprox(measured, 1e-9)) << k;
   }
 }
 
@@ -184,6 +206,47 @@ TEST(AlignConsecutive, MissingIntrinsicsIsAnInputError) {
     EXPECT_EQ(std::string(e.what()), dir.string() + ": no intrinsics: pass --intrinsics (a preset: "
                                                      "tum-fr1, tum-fr2, tum-fr3, primesense; or fx,fy,cx,cy)");
   }
+}
+
+}  // namespace
+}  // namespace f2c
+
+namespace f2c {
+namespace {
+
+Rigid3d Motion(double angle, const Eigen::Vector3d& axis, const Eigen::Vector3d& t) {
+  Rigid3d m = Rigid3d::Identity();
+  m.linear() = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+  m.translation() = t;
+  return m;
+}
+
+// T0 chains each frame onto its reference's pose, whether the reference is the previous frame
+// or an earlier keyframe, and keeps the frames' timestamps.
+TEST(ConcatenatePairs, ChainsEachFrameOntoItsReference) {
+  RgbdSequence seq;
+  for (int i = 0; i < 4; ++i) seq.frames.push_back({.timestamp = 10.0 + i});
+  const Rigid3d a = Motion(0.1, {0, 1, 0}, {0.1, 0, 0});
+  const Rigid3d b = Motion(-0.2, {1, 0, 1}, {0, 0.05, 0.02});
+  const Rigid3d c = Motion(0.3, {0, 0, 1}, {-0.1, 0.2, 0});
+  std::vector<PairAlignment> pairs(3);
+  pairs[0].frame = 1, pairs[0].reference = 0, pairs[0].prev_from_curr = a;
+  pairs[1].frame = 2, pairs[1].reference = 1, pairs[1].prev_from_curr = b;
+  pairs[2].frame = 3, pairs[2].reference = 1, pairs[2].prev_from_curr = c;  // frame 1 is its keyframe
+  const Trajectory t0 = ConcatenatePairs(seq, pairs);
+  ASSERT_EQ(t0.size(), 4u);
+  EXPECT_TRUE(t0.world_from_camera[0].isApprox(Rigid3d::Identity()));
+  EXPECT_TRUE(t0.world_from_camera[1].isApprox(a, 1e-12));
+  EXPECT_TRUE(t0.world_from_camera[2].isApprox(a * b, 1e-12));
+  EXPECT_TRUE(t0.world_from_camera[3].isApprox(a * c, 1e-12));
+  EXPECT_FALSE(t0.world_from_camera[3].isApprox(a * b * c, 1e-3));
+  EXPECT_DOUBLE_EQ(t0.timestamps[3], 13.0);
+  // A pair list that does not match the frames is our bug, not the user's input.
+  pairs.pop_back();
+  EXPECT_THROW(ConcatenatePairs(seq, pairs), InternalError);
+  pairs.push_back(PairAlignment{});
+  pairs[2].frame = 3, pairs[2].reference = 3;
+  EXPECT_THROW(ConcatenatePairs(seq, pairs), InternalError);
 }
 
 }  // namespace
