@@ -579,5 +579,89 @@ TEST(Cli, EvaluateGroundTruthAgainstItselfIsZero) {
   EXPECT_NE(r.output.find("rotation drift >=5 s     deg     0.0000"), std::string::npos) << r.output;
 }
 
+// The README's commands on damaged copies of real data (TUM fr1/desk, its 9 frames): each
+// damage gives the documented one-line error, exit 1, from every command that reads what was
+// damaged, and no output folder.
+TEST(Cli, DamagedCopiesOfRealDataGiveTheDocumentedErrors) {
+  if (!fs::exists(Data("tum_fr1_desk_9"))) GTEST_SKIP() << "../shared/data absent";
+  const fs::path root = testing::FreshTempDir("cli_damaged");
+  int copies = 0;
+  auto copy = [&] {
+    const fs::path dir = root / ("copy" + std::to_string(copies++));
+    fs::copy(Data("tum_fr1_desk_9"), dir, fs::copy_options::recursive);
+    return dir;
+  };
+  auto nth = [](const fs::path& folder, int n) {
+    std::vector<fs::path> files{fs::directory_iterator(folder), fs::directory_iterator()};
+    std::sort(files.begin(), files.end());
+    return files.at(n);
+  };
+  const std::string k = " --intrinsics tum-fr1 -q ";
+  // No file is written (an image found corrupt while decoding may leave the empty folders
+  // register had made).
+  auto expect = [&](const std::string& command, const std::string& message) {
+    const fs::path out = root / ("out" + std::to_string(copies));
+    const bool mesh = command.rfind("fuse", 0) == 0;
+    const Result r = RunCli(command + " -o " + (mesh ? out / "mesh.ply" : out).string());
+    EXPECT_EQ(r.code, 1) << command;
+    EXPECT_EQ(r.output, "error: " + message + "\n") << command;
+    if (fs::exists(out)) {
+      for (const auto& entry : fs::recursive_directory_iterator(out)) {
+        EXPECT_FALSE(entry.is_regular_file()) << command << " wrote " << entry.path();
+      }
+    }
+  };
+  const fs::path gt = Data("tum_fr1_desk_9") / "groundtruth.txt";
+
+  // A colour JPEG cut short: read by register and fuse (features reads depth only).
+  fs::path dir = copy();
+  fs::path image = nth(dir / "rgb", 2);
+  fs::resize_file(image, 5000);
+  expect("register " + dir.string() + k, image.string() + ": corrupt JPEG: Premature end of JPEG file");
+  expect("fuse " + dir.string() + k + "--trajectory " + gt.string(),
+         image.string() + ": corrupt JPEG: Premature end of JPEG file");
+
+  // A depth PNG of zero bytes: every command that reads depth.
+  dir = copy();
+  image = nth(dir / "depth", 1);
+  fs::resize_file(image, 0);
+  for (const std::string& command : {"register " + dir.string() + k, "features " + dir.string() + k,
+                                     "fuse " + dir.string() + k + "--trajectory " + gt.string()}) {
+    expect(command, image.string() + ": cannot decode image (corrupt or not an image)");
+  }
+
+  // A listed colour image missing: found when the folder is read, before any work.
+  dir = copy();
+  image = nth(dir / "rgb", 3);
+  fs::remove(image);
+  for (const std::string& command : {"register " + dir.string() + k, "features " + dir.string() + k,
+                                     "fuse " + dir.string() + k + "--trajectory " + gt.string()}) {
+    expect(command, image.string() + ": missing frame image (listed in the dataset)");
+  }
+  EXPECT_EQ(RunCli("info " + dir.string() + " --intrinsics tum-fr1").output,
+            "error: " + image.string() + ": missing frame image (listed in the dataset)\n");
+
+  // A listed image that is a symlink loop: the system's words, naming it.
+  dir = copy();
+  image = nth(dir / "rgb", 4);
+  fs::remove(image);
+  fs::create_symlink(image, image);
+  expect("register " + dir.string() + k, image.string() + ": Too many levels of symbolic links");
+
+  // A ground-truth line with a NaN: evaluate names the line.
+  dir = copy();
+  {
+    std::string text = ReadFileToString(dir / "groundtruth.txt");
+    std::istringstream lines(text);
+    std::string out, line;
+    for (int n = 1; std::getline(lines, line); ++n) out += (n == 5 ? "1305031453.4 nan 0 0 0 0 0 1" : line) + "\n";
+    WriteFileAtomic(dir / "groundtruth.txt", out);
+  }
+  const Result r = RunCli("evaluate --estimate " + gt.string() + " --ground-truth " + dir.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.output, "error: " + (dir / "groundtruth.txt").string() +
+                          ":5: 'nan' is not a finite number; expected 'timestamp tx ty tz qx qy qz qw'\n");
+}
+
 }  // namespace
 }  // namespace f2c
