@@ -7,18 +7,18 @@
 #include <optional>
 
 #include "apps/commands.h"
-#include "apps/run_report.h"
-#include "f2c/report/svg_plot.h"
-#include "f2c/eval/mesh_error.h"
-#include "f2c/report/report.h"
-#include "f2c/util/file.h"
-#include "f2c/io/ply.h"
 #include "apps/common.h"
 #include "apps/fields_cli.h"
+#include "apps/run_report.h"
 #include "f2c/eval/correspondence_error.h"
+#include "f2c/eval/mesh_error.h"
 #include "f2c/eval/trajectory_error.h"
 #include "f2c/io/correspondences.h"
+#include "f2c/io/ply.h"
+#include "f2c/report/report.h"
+#include "f2c/report/svg_plot.h"
 #include "f2c/util/error.h"
+#include "f2c/util/file.h"
 
 namespace f2c::app {
 namespace fs = std::filesystem;

@@ -10,14 +10,14 @@
 
 #include "apps/commands.h"
 #include "apps/common.h"
-#include "apps/fields_cli.h"
 #include "apps/feature_views.h"
+#include "apps/fields_cli.h"
 #include "f2c/features/feature_set.h"
 #include "f2c/io/image.h"
 #include "f2c/io/ply.h"
 #include "f2c/util/error.h"
-#include "f2c/util/file.h"
 #include "f2c/util/fields_json.h"
+#include "f2c/util/file.h"
 
 namespace f2c::app {
 namespace fs = std::filesystem;

@@ -11,9 +11,9 @@
 #include "apps/fields_cli.h"
 #include "apps/mesh_views.h"
 #include "f2c/util/error.h"
+#include "f2c/util/fields_json.h"
 #include "f2c/util/file.h"
 #include "f2c/util/memory.h"
-#include "f2c/util/fields_json.h"
 
 namespace f2c::app {
 namespace fs = std::filesystem;
