@@ -60,13 +60,15 @@ class SampledBilateral {
     for (int vv = v - radius_; vv <= v + radius_; vv += 2) {
       if (vv < 0 || vv >= depth_.rows) continue;
       const float* row = depth_.ptr<float>(vv);
-      const float* spatial = &spatial_[(vv - v + radius_) * side + radius_ - u];
+      // The kernel row of this vv, indexed by uu - u + radius_ (a pointer offset by -u would
+      // point outside the kernel: undefined behaviour, UBSan's pointer-overflow check).
+      const float* spatial = &spatial_[(vv - v + radius_) * side];
       for (int uu = u - radius_; uu <= u + radius_; uu += 2) {
         if (uu < 0 || uu >= depth_.cols) continue;
         const float z = ValidDepth(row[uu], o_);
         if (z == 0) continue;
         const int bin = std::min(kRangeBins, static_cast<int>(std::abs(z - z0) * to_bin));
-        const float w = spatial[uu] * range_[bin];
+        const float w = spatial[uu - u + radius_] * range_[bin];
         sum += w * z;
         weight += w;
       }

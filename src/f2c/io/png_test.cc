@@ -72,10 +72,13 @@ std::string EncodePng(const cv::Mat& image, int filter, const std::string& extra
     const int f = filter < 0 ? y % 5 : filter;
     filtered.push_back(static_cast<uint8_t>(f));
     const uint8_t* row = &rows[y * row_bytes];
+    // The row above by its own pointer: row[i - row_bytes] wraps the unsigned offset
+    // (undefined behaviour, UBSan's pointer-overflow check).
+    const uint8_t* above = y > 0 ? &rows[(y - 1) * row_bytes] : nullptr;
     for (size_t i = 0; i < row_bytes; ++i) {
       const int a = i >= static_cast<size_t>(bpp) ? row[i - bpp] : 0;
-      const int b = y > 0 ? row[i - row_bytes] : 0;
-      const int c = y > 0 && i >= static_cast<size_t>(bpp) ? row[i - row_bytes - bpp] : 0;
+      const int b = above ? above[i] : 0;
+      const int c = above && i >= static_cast<size_t>(bpp) ? above[i - bpp] : 0;
       const int pa = std::abs(b - c), pb = std::abs(a - c), pc = std::abs(a + b - 2 * c);
       const int predictor[5] = {0, a, b, (a + b) / 2, pa <= pb && pa <= pc ? a : (pb <= pc ? b : c)};
       filtered.push_back(static_cast<uint8_t>(row[i] - predictor[f > 4 ? 0 : f]));  // f > 4: invalid
