@@ -35,9 +35,9 @@ for src in tests/fuzz/fuzz_*.cc; do
   mkdir -p "$work/$t/corpus"
   cp tests/fuzz/corpus/"$t"/* "$work/$t/corpus/"
   if (cd "$work/$t" && "$OLDPWD/build-sanitize/tests/fuzz/$t" corpus -max_total_time="$fuzz_seconds" \
-        -max_len=65536 -timeout=10 -rss_limit_mb=4096 > log.txt 2>&1); then
+        -max_len=65536 -timeout=10 -rss_limit_mb=4096 -print_final_stats=1 > log.txt 2>&1); then
     echo "fuzz: $t: $(grep -o 'stat::number_of_executed_units: *[0-9]*' "$work/$t/log.txt" |
-      grep -o '[0-9]*$' || grep -o '#[0-9]*' "$work/$t/log.txt" | tail -1) runs, no finding"
+      grep -o '[0-9]*$') runs, no finding"
   else
     echo "fuzz: $t: FAILED"
     grep -m5 -E "ERROR|runtime error|terminate|what\(\)|Test unit written" "$work/$t/log.txt" || tail -20 "$work/$t/log.txt"
