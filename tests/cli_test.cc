@@ -1,14 +1,13 @@
 // Runs the fine2coarse binary as a user would and checks exit codes, messages and outputs.
+// Bad input: cli_bad_input_test.cc.
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
+#include <algorithm>
 #include <filesystem>
 #include <fmt/format.h>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "f2c/features/feature_set.h"
 #include "f2c/io/conf.h"
@@ -16,53 +15,16 @@
 #include "f2c/io/trajectory.h"
 #include "f2c/testing/synthetic_scene.h"
 #include "f2c/util/file.h"
+#include "tests/cli_helpers.h"
 
 namespace f2c {
 namespace {
 namespace fs = std::filesystem;
-
-struct Result {
-  int code = -1;
-  std::string output;  // stdout and stderr
-};
-
-// `shell_tail` follows the command line as is (redirections of its own).
-Result RunCli(const std::string& args, const std::string& shell_tail = " 2>&1") {
-  const std::string command = std::string(F2C_CLI_PATH) + " " + args + shell_tail;
-  FILE* pipe = popen(command.c_str(), "r");
-  Result r;
-  std::array<char, 4096> buffer;
-  size_t n = 0;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-// zlib's CRC-32 (PNG chunks), bit by bit: a test needs only a few bytes of it.
-uint32_t Crc32ForTest(const std::string& bytes) {
-  uint32_t crc = 0xFFFFFFFFu;
-  for (unsigned char b : bytes) {
-    crc ^= b;
-    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
-  }
-  return ~crc;
-}
-
-fs::path Data(const std::string& name) { return fs::path(F2C_SHARED_DATA_DIR) / name; }
-
-fs::path SyntheticTum(const std::string& name, int n) {
-  const fs::path dir = testing::FreshTempDir(name);
-  std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> poses;
-  for (int i = 0; i < n; ++i) {
-    Rigid3d pose = Rigid3d::Identity();
-    pose.linear() = Eigen::AngleAxisd(0.02 * i, Eigen::Vector3d::UnitY()).toRotationMatrix();
-    pose.translation() = Eigen::Vector3d(0.03 * i, 0, -0.6);
-    poses.push_back(pose);
-  }
-  testing::WriteTumSequence(dir, testing::SyntheticScene(), testing::TestIntrinsics(), poses);
-  return dir;
-}
+using cli_test::Crc32ForTest;
+using cli_test::Data;
+using cli_test::Result;
+using cli_test::RunCli;
+using cli_test::SyntheticTum;
 
 TEST(Cli, HelpOnEverySubcommand) {
   for (const char* cmd : {"", "register ", "features ", "fuse ", "evaluate ", "info ", "simulate ", "demo "}) {
@@ -70,55 +32,6 @@ TEST(Cli, HelpOnEverySubcommand) {
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.output.find("Usage"), std::string::npos) << r.output;
   }
-}
-
-TEST(Cli, BadUsageExitsTwo) {
-  EXPECT_EQ(RunCli("").code, 2);
-  EXPECT_EQ(RunCli("frobnicate").code, 2);
-  EXPECT_EQ(RunCli("register /tmp").code, 2);  // -o missing
-  EXPECT_EQ(RunCli("register /tmp -o /tmp/x --every two").code, 2);  // not a number
-}
-
-// A number out of its range is bad input (exit 1), named by its flag, before any work or
-// output folder.
-TEST(Cli, OutOfRangeOptionsAreOneLineNamingTheFlag) {
-  const fs::path out = testing::FreshTempDir("cli_range") / "x";
-  Result r = RunCli("register /tmp -o " + out.string() + " --every 0");
-  EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.output, "error: --every: must be >= 1, got 0\n");
-  r = RunCli("register /tmp -o " + out.string() + " --voxel-size 2");
-  EXPECT_EQ(r.output, "error: --voxel-size: must be in [0.001, 0.5], got 2\n");
-  r = RunCli("register /tmp -o " + out.string() + " --ransac-threshold -1");
-  EXPECT_EQ(r.output, "error: --ransac-threshold: must be > 0, got -1\n");
-  r = RunCli("register /tmp -o " + out.string() + " --track-window 8");
-  EXPECT_EQ(r.output, "error: --track-window: must be odd, got 8\n");
-  r = RunCli("register /tmp -o " + out.string() + " --feature-step 0");
-  EXPECT_EQ(r.output, "error: --feature-step: must be >= 1, got 0\n");
-  r = RunCli("register /tmp -o " + out.string() + " --loss tukey");
-  EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.output, "error: --loss: unknown value 'tukey' (none, huber, cauchy)\n");
-  r = RunCli("evaluate --estimate /tmp/a --ground-truth /tmp/b --drift-min-seconds -1");
-  EXPECT_EQ(r.output, "error: --drift-min-seconds: must be >= 0, got -1\n");
-  EXPECT_FALSE(fs::exists(out));
-}
-
-TEST(Cli, MissingInputExitsOneWithOneLine) {
-  const Result r = RunCli("info /no/such/folder");
-  EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.output, "error: /no/such/folder: no such file or folder\n");
-}
-
-TEST(Cli, UnwritableOutputFolderFailsBeforeWork) {
-  const fs::path dir = SyntheticTum("cli_unwritable", 2);
-  const fs::path blocker = testing::FreshTempDir("cli_blocker") / "file";
-  WriteFileAtomic(blocker, "x");
-  const Result r = RunCli(dir.string() + " --intrinsics primesense -o " + (blocker / "out").string() + " -q");
-  // register is the subcommand; put it first.
-  const Result r2 = RunCli("register " + dir.string() + " --intrinsics primesense -o " + (blocker / "out").string() + " -q");
-  EXPECT_EQ(r.code, 2);
-  EXPECT_EQ(r2.code, 1);
-  EXPECT_EQ(r2.output.rfind("error: " + (blocker / "out").string() + ": cannot create output folder", 0), 0u)
-      << r2.output;
 }
 
 TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
@@ -382,17 +295,6 @@ TEST(Cli, StructureAddsTheHierarchyAndItsTermsToEachIteration) {
   EXPECT_FALSE(fs::exists(out / "bad"));
 }
 
-TEST(Cli, BadRefinementOptionFailsBeforeAnyWork) {
-  const fs::path dir = SyntheticTum("cli_refine_bad", 2);
-  const fs::path out = testing::FreshTempDir("cli_refine_bad_out") / "run";
-  const Result r = RunCli("register " + dir.string() + " --intrinsics primesense -q --window-frames 1 -o " + out.string());
-  EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.output, "error: --window-frames: must be >= 2, got 1\n");
-  EXPECT_FALSE(fs::exists(out));
-  EXPECT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --windows time -o " + out.string()).output,
-            "error: --windows: unknown value 'time' (frames, path)\n");
-}
-
 TEST(Cli, FeaturesWritesTheCacheImagesAndPointSetsAndReusesTheCache) {
   const fs::path dir = SyntheticTum("cli_features", 3);
   const fs::path out = testing::FreshTempDir("cli_features_out");
@@ -434,97 +336,6 @@ TEST(Cli, FeaturesWritesTheCacheImagesAndPointSetsAndReusesTheCache) {
   EXPECT_EQ(no_k.output, "error: " + dir.string() +
                              ": no intrinsics: pass --intrinsics (a preset: tum-fr1, tum-fr2, tum-fr3, primesense; "
                              "or fx,fy,cx,cy)\n");
-}
-
-TEST(Cli, CorruptFrameExitsOneNamingTheFile) {
-  const fs::path dir = SyntheticTum("cli_corrupt", 3);
-  const fs::path victim = *fs::directory_iterator(dir / "depth");
-  WriteFileAtomic(victim, "garbage");
-  const fs::path out = testing::FreshTempDir("cli_corrupt_out");
-  const Result r = RunCli("register " + dir.string() + " --intrinsics primesense -q --no-cache -o " + out.string());
-  EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.output, "error: " + victim.string() + ": cannot decode image (corrupt or not an image)\n");
-  EXPECT_FALSE(fs::exists(out / "trajectory.txt"));
-}
-
-// Inputs that once ended in exit 3 ("internal error") or in OpenCV's words: each is one line
-// naming the file, exit 1, and no output folder left behind.
-TEST(Cli, FilesystemAndOversizedImagesAreOneLineErrors) {
-  const fs::path dir = SyntheticTum("cli_fs", 3);
-  // A listed image that is a symlink loop.
-  const fs::path victim = *fs::directory_iterator(dir / "depth");
-  fs::remove(victim);
-  fs::create_symlink(victim, victim);
-  const fs::path out = testing::FreshTempDir("cli_fs_out") / "run";
-  Result r = RunCli("register " + dir.string() + " --intrinsics primesense -q -o " + out.string());
-  EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.output, "error: " + victim.string() + ": Too many levels of symbolic links\n");
-  EXPECT_FALSE(fs::exists(out));
-  // The first depth image's header claims 100000 x 100000 pixels and the intrinsics carry no
-  // size, so the reader looks at it first.
-  const fs::path big = testing::FreshTempDir("cli_fs_big");
-  testing::WriteTumSequence(big, testing::SyntheticScene(), testing::TestIntrinsics(),
-                            {Rigid3d::Identity(), Rigid3d::Identity()});
-  std::vector<fs::path> depths;
-  for (const auto& e : fs::directory_iterator(big / "depth")) depths.push_back(e.path());
-  std::sort(depths.begin(), depths.end());
-  std::string header = "\x89PNG\r\n\x1a\n";
-  auto put32 = [](std::string* s, uint32_t v) {
-    for (int shift = 24; shift >= 0; shift -= 8) s->push_back(static_cast<char>((v >> shift) & 0xff));
-  };
-  std::string ihdr = "IHDR";
-  put32(&ihdr, 100000), put32(&ihdr, 100000);
-  ihdr += std::string("\x10\0\0\0\0", 5);
-  put32(&header, 13);
-  header += ihdr;
-  put32(&header, static_cast<uint32_t>(Crc32ForTest(ihdr)));
-  WriteFileAtomic(depths.front(), header + std::string("\0\0\0\0IEND\xae\x42\x60\x82", 12));
-  r = RunCli("info " + big.string() + " --intrinsics 525,525,319.5,239.5");
-  EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.output, "error: " + depths.front().string() +
-                          ": PNG of 100000 x 100000 pixels: over the 32-megapixel limit for RGB-D frames\n");
-  // The output folder's cache is a file.
-  const fs::path good = SyntheticTum("cli_fs_good", 3);
-  const fs::path blocked = testing::FreshTempDir("cli_fs_blocked");
-  WriteFileAtomic(blocked / "cache", "not a folder");
-  r = RunCli("register " + good.string() + " --intrinsics primesense -q --stop-after odometry -o " + blocked.string());
-  EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.output, "error: " + (blocked / "cache").string() + ": Not a directory\n");
-}
-
-TEST(Cli, FailedWritesToStdoutAndAbsurdOptionsAreErrors) {
-  // Results on stdout that cannot be written (a full disk) are not a success.
-  const fs::path dir = SyntheticTum("cli_stdout", 2);
-  Result r = RunCli("info " + dir.string() + " --intrinsics primesense --json", " 2>&1 > /dev/full");
-  EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.output, "error: stdout: No space left on device\n");
-  r = RunCli("simulate --frames 2000000000 -o " + (testing::FreshTempDir("cli_absurd") / "s").string());
-  EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.output, "error: --frames: must be in [1, 100000], got 2000000000\n");
-  r = RunCli("simulate --frames 3 --depth-distortion nan -o " + (testing::FreshTempDir("cli_absurd") / "s").string());
-  EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.output, "error: --depth-distortion: must be in [-1, 1], got nan\n");
-  r = RunCli("register " + dir.string() + " --intrinsics primesense -q -o ''");
-  EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.output, "error: (empty path): cannot create output folder: Invalid argument\n");
-}
-
-// A damaged entry in the pair cache is recomputed, with one warning, to the same poses.
-TEST(Cli, ADamagedCachedPairIsRecomputed) {
-  const fs::path dir = SyntheticTum("cli_cache_damage", 4);
-  const fs::path out = testing::FreshTempDir("cli_cache_damage_out");
-  const std::string cmd = "register " + dir.string() + " --intrinsics primesense -q --stop-after odometry -o " + out.string();
-  ASSERT_EQ(RunCli(cmd).code, 0);
-  const std::string before = ReadFileToString(out / "trajectory.txt");
-  nlohmann::json cache = nlohmann::json::parse(ReadFileToString(out / "cache" / "odometry_pairs.json"));
-  ASSERT_FALSE(cache["pairs"].empty());
-  cache["pairs"].begin().value()["prev_from_curr"][0] = 2.0;  // scaled: not a rotation
-  WriteFileAtomic(out / "cache" / "odometry_pairs.json", cache.dump());
-  const Result r = RunCli(cmd);
-  ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_NE(r.output.find("a cached pair is damaged (prev_from_curr is not a rotation); recomputing it"), std::string::npos)
-      << r.output;
-  EXPECT_EQ(ReadFileToString(out / "trajectory.txt"), before);
 }
 
 TEST(Cli, SimulateWritesAReadableScanAndDemoEvaluatesIt) {
@@ -577,90 +388,6 @@ TEST(Cli, EvaluateGroundTruthAgainstItselfIsZero) {
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("ATE                      m       0.0000"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("rotation drift >=5 s     deg     0.0000"), std::string::npos) << r.output;
-}
-
-// The README's commands on damaged copies of real data (TUM fr1/desk, its 9 frames): each
-// damage gives the documented one-line error, exit 1, from every command that reads what was
-// damaged, and no output folder.
-TEST(Cli, DamagedCopiesOfRealDataGiveTheDocumentedErrors) {
-  if (!fs::exists(Data("tum_fr1_desk_9"))) GTEST_SKIP() << "../shared/data absent";
-  const fs::path root = testing::FreshTempDir("cli_damaged");
-  int copies = 0;
-  auto copy = [&] {
-    const fs::path dir = root / ("copy" + std::to_string(copies++));
-    fs::copy(Data("tum_fr1_desk_9"), dir, fs::copy_options::recursive);
-    return dir;
-  };
-  auto nth = [](const fs::path& folder, int n) {
-    std::vector<fs::path> files{fs::directory_iterator(folder), fs::directory_iterator()};
-    std::sort(files.begin(), files.end());
-    return files.at(n);
-  };
-  const std::string k = " --intrinsics tum-fr1 -q ";
-  // No file is written (an image found corrupt while decoding may leave the empty folders
-  // register had made).
-  auto expect = [&](const std::string& command, const std::string& message) {
-    const fs::path out = root / ("out" + std::to_string(copies));
-    const bool mesh = command.rfind("fuse", 0) == 0;
-    const Result r = RunCli(command + " -o " + (mesh ? out / "mesh.ply" : out).string());
-    EXPECT_EQ(r.code, 1) << command;
-    EXPECT_EQ(r.output, "error: " + message + "\n") << command;
-    if (fs::exists(out)) {
-      for (const auto& entry : fs::recursive_directory_iterator(out)) {
-        EXPECT_FALSE(entry.is_regular_file()) << command << " wrote " << entry.path();
-      }
-    }
-  };
-  const fs::path gt = Data("tum_fr1_desk_9") / "groundtruth.txt";
-
-  // A colour JPEG cut short: read by register and fuse (features reads depth only).
-  fs::path dir = copy();
-  fs::path image = nth(dir / "rgb", 2);
-  fs::resize_file(image, 5000);
-  expect("register " + dir.string() + k, image.string() + ": corrupt JPEG: Premature end of JPEG file");
-  expect("fuse " + dir.string() + k + "--trajectory " + gt.string(),
-         image.string() + ": corrupt JPEG: Premature end of JPEG file");
-
-  // A depth PNG of zero bytes: every command that reads depth.
-  dir = copy();
-  image = nth(dir / "depth", 1);
-  fs::resize_file(image, 0);
-  for (const std::string& command : {"register " + dir.string() + k, "features " + dir.string() + k,
-                                     "fuse " + dir.string() + k + "--trajectory " + gt.string()}) {
-    expect(command, image.string() + ": cannot decode image (corrupt or not an image)");
-  }
-
-  // A listed colour image missing: found when the folder is read, before any work.
-  dir = copy();
-  image = nth(dir / "rgb", 3);
-  fs::remove(image);
-  for (const std::string& command : {"register " + dir.string() + k, "features " + dir.string() + k,
-                                     "fuse " + dir.string() + k + "--trajectory " + gt.string()}) {
-    expect(command, image.string() + ": missing frame image (listed in the dataset)");
-  }
-  EXPECT_EQ(RunCli("info " + dir.string() + " --intrinsics tum-fr1").output,
-            "error: " + image.string() + ": missing frame image (listed in the dataset)\n");
-
-  // A listed image that is a symlink loop: the system's words, naming it.
-  dir = copy();
-  image = nth(dir / "rgb", 4);
-  fs::remove(image);
-  fs::create_symlink(image, image);
-  expect("register " + dir.string() + k, image.string() + ": Too many levels of symbolic links");
-
-  // A ground-truth line with a NaN: evaluate names the line.
-  dir = copy();
-  {
-    std::string text = ReadFileToString(dir / "groundtruth.txt");
-    std::istringstream lines(text);
-    std::string out, line;
-    for (int n = 1; std::getline(lines, line); ++n) out += (n == 5 ? "1305031453.4 nan 0 0 0 0 0 1" : line) + "\n";
-    WriteFileAtomic(dir / "groundtruth.txt", out);
-  }
-  const Result r = RunCli("evaluate --estimate " + gt.string() + " --ground-truth " + dir.string());
-  EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.output, "error: " + (dir / "groundtruth.txt").string() +
-                          ":5: 'nan' is not a finite number; expected 'timestamp tx ty tz qx qy qz qw'\n");
 }
 
 }  // namespace
