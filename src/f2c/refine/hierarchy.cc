@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <queue>
@@ -23,6 +24,7 @@ struct Cluster {
   Eigen::Vector3d centroid_sum = Eigen::Vector3d::Zero();
   double weight = 0;
   std::vector<int> members;
+  std::vector<std::pair<int, int>> imaged;  // (image, item) of the members with an image, sorted
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   int version = 0;
@@ -33,6 +35,10 @@ struct Cluster {
     centroid_sum += other.centroid_sum;
     weight += other.weight;
     members.insert(members.end(), other.members.begin(), other.members.end());
+    std::vector<std::pair<int, int>> both;
+    both.reserve(imaged.size() + other.imaged.size());
+    std::merge(imaged.begin(), imaged.end(), other.imaged.begin(), other.imaged.end(), std::back_inserter(both));
+    imaged = std::move(both);
     Update();
   }
   void Update() {
@@ -47,13 +53,48 @@ Cluster FromItem(const ClusterItem& item, int index) {
   c.centroid_sum = item.weight * item.centroid;
   c.weight = item.weight;
   c.members = {index};
+  if (item.image >= 0) c.imaged = {{item.image, index}};
   c.Update();
   return c;
 }
 
+// Whether two items of one image are one surface: within the merge angle, and each centroid
+// within in_image_distance of the other's plane.
+bool OneSurfaceInImage(const ClusterItem& a, const ClusterItem& b, const HierarchyOptions& options) {
+  if (a.normal.dot(b.normal) < std::cos(options.max_normal_angle_deg * M_PI / 180)) return false;
+  const Eigen::Vector3d d = b.centroid - a.centroid;
+  return std::max(std::abs(a.normal.dot(d)), std::abs(b.normal.dot(d))) <= options.in_image_distance;
+}
+
+// Whether some image saw a member of each cluster as two separate surfaces.
+bool SeparatedInSomeImage(const Cluster& a, const Cluster& b, const std::vector<ClusterItem>& items,
+                          const HierarchyOptions& options) {
+  if (options.in_image_distance <= 0) return false;
+  size_t i = 0, j = 0;
+  while (i < a.imaged.size() && j < b.imaged.size()) {
+    const int image = a.imaged[i].first;
+    if (image < b.imaged[j].first) {
+      ++i;
+    } else if (b.imaged[j].first < image) {
+      ++j;
+    } else {
+      size_t j_end = j;
+      while (j_end < b.imaged.size() && b.imaged[j_end].first == image) ++j_end;
+      for (; i < a.imaged.size() && a.imaged[i].first == image; ++i) {
+        for (size_t k = j; k < j_end; ++k) {
+          if (!OneSurfaceInImage(items[a.imaged[i].second], items[b.imaged[k].second], options)) return true;
+        }
+      }
+      j = j_end;
+    }
+  }
+  return false;
+}
+
 // The merge cost of two clusters, or infinity when they may not merge under the thresholds
-// scaled by `fraction`.
-double MergeCost(const Cluster& a, const Cluster& b, const HierarchyOptions& options, double fraction) {
+// scaled by `fraction`, or when an image saw them apart.
+double MergeCost(const Cluster& a, const Cluster& b, const std::vector<ClusterItem>& items,
+                 const HierarchyOptions& options, double fraction) {
   const double max_angle = fraction * options.max_normal_angle_deg * M_PI / 180;
   const double max_distance = fraction * options.max_distance;
   const double cosine = a.normal.dot(b.normal);
@@ -61,6 +102,7 @@ double MergeCost(const Cluster& a, const Cluster& b, const HierarchyOptions& opt
   const Eigen::Vector3d d = b.centroid - a.centroid;
   const double distance = std::max(std::abs(a.normal.dot(d)), std::abs(b.normal.dot(d)));
   if (distance > max_distance) return std::numeric_limits<double>::infinity();
+  if (SeparatedInSomeImage(a, b, items, options)) return std::numeric_limits<double>::infinity();
   return distance / max_distance + std::acos(std::min(1.0, cosine)) / max_angle;
 }
 
@@ -78,7 +120,7 @@ std::vector<PlaneCluster> ClusterCoplanar(const std::vector<ClusterItem>& items,
     double best = std::numeric_limits<double>::infinity();
     int best_k = -1;
     for (int k = 0; k < static_cast<int>(clusters.size()); ++k) {
-      const double cost = MergeCost(clusters[k], single, options, options.premerge_fraction);
+      const double cost = MergeCost(clusters[k], single, items, options, options.premerge_fraction);
       if (cost < best) best = cost, best_k = k;
     }
     if (best_k < 0) {
@@ -94,7 +136,7 @@ std::vector<PlaneCluster> ClusterCoplanar(const std::vector<ClusterItem>& items,
   const int k = static_cast<int>(clusters.size());
   for (int a = 0; a < k; ++a) {
     for (int b = a + 1; b < k; ++b) {
-      const double cost = MergeCost(clusters[a], clusters[b], options, 1.0);
+      const double cost = MergeCost(clusters[a], clusters[b], items, options, 1.0);
       if (std::isfinite(cost)) queue.emplace(cost, a, b, 0, 0);
     }
   }
@@ -107,7 +149,7 @@ std::vector<PlaneCluster> ClusterCoplanar(const std::vector<ClusterItem>& items,
     clusters[b].alive = false;
     for (int c = 0; c < k; ++c) {
       if (c == a || !clusters[c].alive) continue;
-      const double next = MergeCost(clusters[a], clusters[c], options, 1.0);
+      const double next = MergeCost(clusters[a], clusters[c], items, options, 1.0);
       if (!std::isfinite(next)) continue;
       if (c < a) {
         queue.emplace(next, c, a, clusters[c].version, clusters[a].version);
@@ -161,6 +203,7 @@ ProxyHierarchy BuildProxyHierarchy(const WindowSchedule& schedule, int iteration
       item.normal = (pose.linear() * p.normal.cast<double>()).normalized();
       item.centroid = pose * p.centroid.cast<double>();
       item.weight = p.inliers;
+      item.image = f;
       world.push_back(item);
     }
   }

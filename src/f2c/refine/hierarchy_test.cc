@@ -68,6 +68,45 @@ TEST(ClusterCoplanar, ParallelWallsApartAreMergedOnlyWithinTheDistanceThreshold)
   EXPECT_EQ(ClusterCoplanar(tilted, HierarchyOptions()).size(), 2u);
 }
 
+// A desk and a keyboard 3 cm above it: within the 5 cm merge distance, but every image that
+// sees both measures them 3 cm apart, and no pose error enters that. They stay two parents;
+// without the in-image test (or with a tolerance above 3 cm) they become one.
+TEST(ClusterCoplanar, SurfacesThatOneImageSeesApartAreNeverMerged) {
+  // Six images, each a piece of the desk (z = 0.72) and of the keyboard (z = 0.75), with
+  // normals tilted by up to 0.3 degrees and heights off by up to 3 mm.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<ClusterItem> items;
+  std::vector<int> truth;
+  for (int image = 0; image < 6; ++image) {
+    for (int p = 0; p < 2; ++p) {
+      ClusterItem item;
+      item.normal = Eigen::Vector3d(0.005 * u(rng), 0.005 * u(rng), 1).normalized();
+      const double x = p == 0 ? 0.5 * u(rng) : 0.2 * u(rng), y = p == 0 ? 0.3 * u(rng) : 0.1 * u(rng);
+      item.centroid = Eigen::Vector3d(x, y, (p == 0 ? 0.72 : 0.75) + 0.003 * u(rng));
+      item.weight = p == 0 ? 200 : 40;
+      item.image = image;
+      items.push_back(item);
+      truth.push_back(p);
+    }
+  }
+  HierarchyOptions options;
+  const std::vector<PlaneCluster> apart = ClusterCoplanar(items, options);
+  ASSERT_EQ(apart.size(), 2u);
+  for (const PlaneCluster& c : apart) {
+    EXPECT_EQ(c.members.size(), 6u);
+    for (int m : c.members) EXPECT_EQ(truth[m], truth[c.members[0]]);
+  }
+  options.in_image_distance = 0;
+  EXPECT_EQ(ClusterCoplanar(items, options).size(), 1u);
+  options.in_image_distance = 0.045;
+  EXPECT_EQ(ClusterCoplanar(items, options).size(), 1u);
+  // Two pieces of one plane in one image (a wall behind a lamp) still merge.
+  std::vector<ClusterItem> pieces = {items[0], items[2]};
+  pieces[0].image = pieces[1].image = 7;
+  EXPECT_EQ(ClusterCoplanar(pieces, HierarchyOptions()).size(), 1u);
+}
+
 // Four frames see the same wall; windows of 2 frames overlap by one: three windows, one
 // parent each, every child linked to the parent of each window it is in.
 TEST(BuildProxyHierarchy, OneParentPerWindowAndALinkPerChildAndWindow) {
