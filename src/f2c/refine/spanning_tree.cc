@@ -83,4 +83,17 @@ PoseVector SpanningTreePoses(const PoseVector& poses, const std::vector<double>&
   return out;
 }
 
+double LoopDisagreement(const PoseVector& poses, const std::vector<LoopEdge>& loops, int newest, double lever) {
+  std::vector<double> e;
+  for (size_t k = loops.size() - std::min<size_t>(loops.size(), std::max(0, newest)); k < loops.size(); ++k) {
+    const LoopEdge& edge = loops[k];
+    const Rigid3d a_from_b = poses[edge.frame_a].ToRigid().inverse() * poses[edge.frame_b].ToRigid();
+    const Rigid3d off = a_from_b.inverse() * edge.a_from_b;
+    e.push_back(std::max(off.translation().norm(), lever * Eigen::AngleAxisd(off.linear()).angle()));
+  }
+  if (e.empty()) return 0;
+  std::nth_element(e.begin(), e.begin() + e.size() / 2, e.end());
+  return e[e.size() / 2];
+}
+
 }  // namespace f2c

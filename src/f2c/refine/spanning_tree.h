@@ -30,4 +30,12 @@ struct LoopEdge {
 PoseVector SpanningTreePoses(const PoseVector& poses, const std::vector<double>& link_confidence,
                              const std::vector<LoopEdge>& loops, const std::vector<int>& link_from = {});
 
+// How far the poses are from the newest loops' measured relative poses, to decide whether
+// the loops need placing at all: per edge, the difference of the translations or of the
+// rotations at `lever` metres per radian, whichever is larger; the median over the last
+// `newest` edges (metres; 0 with none). The median, because a loop that the poses have not
+// closed yet disagrees in all of its edges by about the same, while a single RANSAC edge
+// can be centimetres or degrees off on its own.
+double LoopDisagreement(const PoseVector& poses, const std::vector<LoopEdge>& loops, int newest, double lever);
+
 }  // namespace f2c

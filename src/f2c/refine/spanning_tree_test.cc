@@ -68,5 +68,32 @@ TEST(SpanningTreePoses, LinksJoinEachFrameToItsReference) {
   EXPECT_LT(Distance(consecutive[1], odometry[1]), 1e-12);
 }
 
+// Loops the poses agree with need no placing: edges measured 1-2 cm or 0.5 deg off the
+// poses (RANSAC noise) give a median of about that, whatever one wrong edge says; a loop the
+// poses have not closed (every new edge 0.3 m off) gives 0.3 m. Only the newest edges count.
+TEST(LoopDisagreement, TheMedianOfTheNewestEdges) {
+  const PoseVector poses = Chain({Step(5, 0.1), Step(-3, 0.2), Step(1, 0.1), Step(2, 0.3), Step(0, 0.2)});
+  auto edge = [&](int a, int b, const Rigid3d& error) {
+    LoopEdge e;
+    e.frame_a = a;
+    e.frame_b = b;
+    e.a_from_b = poses[a].ToRigid().inverse() * poses[b].ToRigid() * error;
+    return e;
+  };
+  std::vector<LoopEdge> loops = {edge(0, 3, Step(0.5, 0.01)), edge(0, 4, Step(0, 0.02)), edge(1, 4, Step(-0.5, 0.015)),
+                                 edge(1, 5, Step(40, 0.5))};  // one wrong edge
+  // Per edge 0.01 (the translation beats 0.5 deg at 1 m, 0.0087), 0.02, 0.015, 0.698: the
+  // (upper) median is 0.02.
+  EXPECT_NEAR(LoopDisagreement(poses, loops, 4, 1.0), 0.02, 1e-9);
+  EXPECT_NEAR(LoopDisagreement(poses, loops, 100, 1.0), 0.02, 1e-9);  // more than there are: all
+  EXPECT_NEAR(LoopDisagreement(poses, loops, 1, 1.0), 40 * M_PI / 180, 1e-9);  // the newest alone
+  EXPECT_EQ(LoopDisagreement(poses, loops, 0, 1.0), 0.0);
+  // The rotation counts at the lever arm: 0.5 deg at 3 m is 2.6 cm.
+  EXPECT_NEAR(LoopDisagreement(poses, {loops[0]}, 1, 3.0), 3.0 * 0.5 * M_PI / 180, 1e-9);
+  // A loop not closed yet: three new edges 0.3 m off, after the agreeing ones.
+  for (int a : {0, 1, 2}) loops.push_back(edge(a, 5, Step(0, 0.3)));
+  EXPECT_NEAR(LoopDisagreement(poses, loops, 3, 1.0), 0.3, 1e-9);
+}
+
 }  // namespace
 }  // namespace f2c
