@@ -43,9 +43,9 @@ struct RefineOptions {
   SiftLoopOptions loops;
   SolverOptions solver;
   // The planar structural model (E_P, E_H, E_G), register --structure. Off by default for
-  // now: measured (BENCHMARKS.md), it lowers rotation drift on simulated multi-room walks but
-  // costs accuracy on TUM fr1/xyz (0.0116 -> 0.0180 m ATE, E_H's coplanarity pulling
-  // proxies that the sensor's depth bias puts a little apart) and time (7 -> 12 ms/frame).
+  // now: measured (BENCHMARKS.md), it lowers rotation drift and error on simulated multi-room
+  // walks but costs accuracy on TUM fr1/xyz (0.0127 -> 0.0151 m ATE: any E_H coupling
+  // between the views' planes does, its normal or its offset part alone too) and time.
   bool structure = false;
   HierarchyOptions hierarchy;
   RelationOptions relations;
