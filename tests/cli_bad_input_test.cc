@@ -5,14 +5,9 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "f2c/features/feature_set.h"
-#include "f2c/io/conf.h"
-#include "f2c/io/ply.h"
-#include "f2c/io/trajectory.h"
 #include "f2c/testing/synthetic_scene.h"
 #include "f2c/util/file.h"
 #include "tests/cli_helpers.h"
@@ -20,11 +15,7 @@
 namespace f2c {
 namespace {
 namespace fs = std::filesystem;
-using cli_test::Crc32ForTest;
-using cli_test::Data;
-using cli_test::Result;
-using cli_test::RunCli;
-using cli_test::SyntheticTum;
+using namespace cli_test;  // the runner and inputs both CLI test files share
 
 TEST(Cli, BadUsageExitsTwo) {
   EXPECT_EQ(RunCli("").code, 2);

@@ -3,11 +3,9 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <filesystem>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "f2c/features/feature_set.h"
 #include "f2c/io/conf.h"
@@ -20,11 +18,7 @@
 namespace f2c {
 namespace {
 namespace fs = std::filesystem;
-using cli_test::Crc32ForTest;
-using cli_test::Data;
-using cli_test::Result;
-using cli_test::RunCli;
-using cli_test::SyntheticTum;
+using namespace cli_test;  // the runner and inputs both CLI test files share
 
 TEST(Cli, HelpOnEverySubcommand) {
   for (const char* cmd : {"", "register ", "features ", "fuse ", "evaluate ", "info ", "simulate ", "demo "}) {

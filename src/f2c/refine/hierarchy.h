@@ -15,10 +15,10 @@
 // proxies, a first pass assigns proxies, largest first, to the best cluster that agrees within
 // premerge_fraction of both thresholds; the agglomerative merge then runs on those clusters.
 // In-image separation: two children of one image were measured in one rigid depth image, so
-// no pose error enters their relative placement. When such a pair is parallel within the
-// merge angle but further apart than in_image_distance (a desk and the keyboard on it, a wall
-// and a cupboard front), they are two surfaces, and no cluster may hold both (a cannot-link
-// between their clusters).
+// no pose error enters their relative placement. When such a pair is further apart than
+// in_image_distance (a desk and the keyboard on it, a wall and a cupboard front) or beyond the
+// merge angle, they are two surfaces, and no cluster may hold both (a cannot-link between
+// their clusters).
 // Each frame is in at most two windows, so children, parents and links grow linearly.
 
 #include <Eigen/Core>

@@ -116,11 +116,9 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
       if (options.loops.spanning_tree) {
         result.poses = SpanningTreePoses(result.poses, confidence, loops.edges(), link_from);
       }
-      {
-        SolverOptions graph = options.solver;
-        graph.solve = SolveMode::kConverge;
-        s.presolve = SolvePoses({{}, constraints.local, constraints.matches, {}}, graph, &result.poses);
-      }
+      SolverOptions graph = options.solver;
+      graph.solve = SolveMode::kConverge;
+      s.presolve = SolvePoses({{}, constraints.local, constraints.matches, {}}, graph, &result.poses);
       s.seconds_loops += presolve.Seconds();
     }
 
