@@ -148,7 +148,8 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   const PoseVector previous = *poses;
   PoseProblem pp;
   for (Pose& pose : *poses) pp.AddPose(&pose);
-  pp.FixPose(&(*poses)[0]);
+  const bool hold_first = options.fix_first_pose || options.weight_inertia <= 0;
+  if (hold_first) pp.FixPose(&(*poses)[0]);
   auto blocks = [&](int a, int b) {
     Pose& pa = (*poses)[a];
     Pose& pb = (*poses)[b];
@@ -287,7 +288,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   // E_I: each pose's change in this iteration, w_I / n per pose; each plane's, w_I / planes.
   if (options.weight_inertia > 0) {
     const double s = std::sqrt(options.weight_inertia / n);
-    for (int i = 1; i < n; ++i) {
+    for (int i = hold_first ? 1 : 0; i < n; ++i) {
       Pose& p = (*poses)[i];
       pp.Add(kTermI,
              PoseChangeCost::Create(previous[i].rotation, previous[i].translation, s, s * options.rotation_lever_arm),
@@ -312,13 +313,13 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   // the planes are first solved to convergence (a small problem: E_C, E_L, E_M drop out), and
   // the joint step starts from planes in balance with the current poses.
   if (use_structure && options.solve == SolveMode::kOneStep && options.plane_presolve_iterations > 0) {
-    for (int i = 1; i < n; ++i) pp.FixPose(&(*poses)[i]);
+    for (int i = hold_first ? 1 : 0; i < n; ++i) pp.FixPose(&(*poses)[i]);
     ceres::Solver::Options planes = BaseSolverOptions(options);
     planes.max_num_iterations = options.plane_presolve_iterations;
     ceres::Solver::Summary planes_summary;
     ceres::Solve(planes, &pp.problem(), &planes_summary);
     summary.plane_presolve_iterations = static_cast<int>(planes_summary.iterations.size()) - 1;
-    for (int i = 1; i < n; ++i) pp.FreePose(&(*poses)[i]);
+    for (int i = hold_first ? 1 : 0; i < n; ++i) pp.FreePose(&(*poses)[i]);
   }
   ceres::Solver::Options solver = BaseSolverOptions(options);
   if (options.linear_solver == LinearSolver::kCgnr) {
@@ -340,6 +341,14 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   for (const ceres::IterationSummary& it : ceres_summary.iterations) summary.linear_iterations += it.linear_solver_iterations;
   if (!summary.usable) *poses = previous;  // a failed solve leaves the poses as they were
   for (Pose& p : *poses) p.rotation.normalize();
+  if (!hold_first) {
+    // Re-anchor: the one rigid motion that puts frame 0 back, applied to every pose.
+    const Rigid3d world_from_solved = previous[0].ToRigid() * (*poses)[0].ToRigid().inverse();
+    for (Pose& p : *poses) {
+      p = Pose::FromRigid(world_from_solved * p.ToRigid());
+      p.rotation.normalize();
+    }
+  }
   summary.seconds = timer.Seconds();
   return summary;
 }

@@ -34,10 +34,11 @@ F2C_ENUM_NAMES(LinearSolver, {{LinearSolver::kSparse, "sparse"}, {LinearSolver::
 
 struct SolverOptions {
   // Term totals. The authors' code: E_C 1500 -> 1000 over the iterations, E_L 1000, E_I 1.
-  // E_L's 10 is measured (BENCHMARKS.md): at 1000 the odometry's relative transforms hold the
-  // drift the correspondences would remove.
+  // E_L's 100 is measured with E_L on short spans only (refine/local_alignment.h,
+  // BENCHMARKS.md): at 1000 the odometry's relative transforms hold the drift the
+  // correspondences would remove; at 10 they no longer keep neighbouring frames together.
   double weight_correspondence = 1000;
-  double weight_local = 10;
+  double weight_local = 100;
   double weight_inertia = 1;
   double weight_match = 100;
   // The structural model's totals (E_P, E_H, E_G); the authors' code: E_S 1500 -> 1000 and
@@ -80,6 +81,13 @@ struct SolverOptions {
   // Ceres' threads; 0: as many as the thread pool allows (register --threads). The one-step
   // solve gave byte-identical poses for 1 and 2 threads (tested).
   int threads = 0;
+  // The gauge. Fixed: frame 0 is held where it is while the others move. Free: frame 0 is
+  // a pose like any other (E_I holds the gauge), and after the solve every pose is moved by
+  // one rigid transform that puts frame 0 back. Holding frame 0 lets every term that
+  // pulls the scan as a whole (a loop, the straightening of E_G and E_H) turn it against
+  // frame 0's own constraints: measured, frame 0 ended 1.3 degrees off its neighbours on a
+  // simulated walk (BENCHMARKS.md). Free needs w_I > 0 (else frame 0 is held).
+  bool fix_first_pose = false;
 
   template <class V>
   void Fields(V& v) {
@@ -100,6 +108,8 @@ struct SolverOptions {
     F2C_FIELD(v, linear_solver, "--linear-solver", {},
               "sparse: Cholesky (exact); cgnr: conjugate gradients (memory linear in the constraints)");
     F2C_FIELD(v, max_linear_iterations, "--linear-iterations", AtLeast(1), "cgnr: iterations per step");
+    F2C_FIELD(v, fix_first_pose, "--fix-first-pose", {},
+              "hold frame 0 during each solve (else it moves with the rest and the poses are re-anchored)");
     F2C_FIELD(v, threads, "--solver-threads", AtLeast(0), "Ceres threads (0: as --threads)");
     v.Group("Refinement: planar structure (paper 4.2-4.3)");
     F2C_FIELD(v, weight_proxy, "--weight-proxy", AtLeast(0), "w_P, E_P's total weight (children fit their images)");

@@ -139,6 +139,45 @@ TEST(SolvePoses, LocalConstraintsAtTheTruthCostNothing) {
   EXPECT_LT(MaxRotationErrorDeg(poses, scene.truth), 1e-3);
 }
 
+// The free gauge treats frame 0 as any other frame: the same chain solved in reverse order
+// (the last frame numbered 0) gives the same relative poses, and frame 0 ends where it
+// started. Held, frame 0 bears none of the correction, and the two orders disagree.
+TEST(SolvePoses, TheFreeGaugeTreatsFrameZeroAsAnyOther) {
+  const Scene scene = MakeScene(4);
+  std::mt19937 rng(11);
+  const PoseVector start = Perturb(scene.truth, 0.05, 0.05, rng);
+  auto solve = [&](bool reversed, bool hold) {
+    auto id = [&](int i) { return reversed ? 3 - i : i; };
+    PoseVector poses(4);
+    for (int i = 0; i < 4; ++i) poses[id(i)] = start[i];
+    std::vector<RelativePoseConstraint> local;
+    for (int a = 0; a + 1 < 4; ++a) {
+      const Rigid3d a_from_b = scene.truth[a].ToRigid().inverse() * scene.truth[a + 1].ToRigid();
+      local.push_back({id(a), id(a + 1), Eigen::Quaterniond(a_from_b.linear()), a_from_b.translation(), 1.0});
+    }
+    SolverOptions options;
+    options.solve = SolveMode::kOneStep;
+    options.fix_first_pose = hold;
+    options.weight_inertia = 30;  // comparable to E_L, so where the correction goes matters
+    SolvePoses({{}, local, {}, {}}, options, &poses);
+    EXPECT_LT((poses[0].translation - start[id(0)].translation).norm(), 1e-12);
+    EXPECT_LT(poses[0].rotation.angularDistance(start[id(0)].rotation), 1e-12);
+    PoseVector in_order(4);
+    for (int i = 0; i < 4; ++i) in_order[i] = poses[id(i)];
+    return in_order;
+  };
+  // Relative pose of frames 1 and 2 (in the original numbering): how far two solutions differ.
+  auto difference = [](const PoseVector& a, const PoseVector& b) {
+    const Rigid3d ra = a[1].ToRigid().inverse() * a[2].ToRigid();
+    const Rigid3d rb = b[1].ToRigid().inverse() * b[2].ToRigid();
+    return (ra.translation() - rb.translation()).norm();
+  };
+  const PoseVector forward = solve(false, false), backward = solve(true, false);
+  EXPECT_LT(difference(forward, backward), 1e-9);
+  const PoseVector held_forward = solve(false, true), held_backward = solve(true, true);
+  EXPECT_GT(difference(held_forward, held_backward), 1e-3);
+}
+
 TEST(SolvePoses, TermWeightsAreTotalsSharedAmongResiduals) {
   // One local constraint 10 cm off: its cost is w_L / 2 * 0.1^2 whatever its relative weight.
   PoseVector poses(2);

@@ -35,6 +35,7 @@ TEST(LocalConstraints, PowersOfTwoChainedWithTheWeakestLink) {
   for (int k = 1; k < 20; ++k) pairs.push_back(Pair(k, AlignmentMethod::kSift, 100, 1.0, 0.1 * k));
   pairs[9] = Pair(10, AlignmentMethod::kIcp, 0, 1.0, 1.0);  // frames 9 -> 10
   LocalAlignmentOptions o;
+  o.max_power = 4;  // the paper's spans
   const std::vector<RelativePoseConstraint> c = LocalConstraints(pairs, o);
   // j + 1, 2, 4, 8, 16 inside 20 frames: 19 + 18 + 16 + 12 + 4.
   ASSERT_EQ(c.size(), 69u);

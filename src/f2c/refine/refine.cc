@@ -11,14 +11,23 @@
 namespace f2c {
 namespace {
 
-// Largest change of any pose between two sets: metres and degrees.
-std::pair<double, double> MaxChange(const PoseVector& a, const PoseVector& b) {
-  double t = 0, r = 0;
+// How far the poses moved between two sets: the largest and the RMS change of any pose,
+// metres and degrees.
+void PoseChange(const PoseVector& a, const PoseVector& b, IterationSummary* s) {
+  double t = 0, r = 0, t2 = 0, r2 = 0;
   for (size_t k = 0; k < a.size(); ++k) {
-    t = std::max(t, (a[k].translation - b[k].translation).norm());
-    r = std::max(r, a[k].rotation.angularDistance(b[k].rotation) * 180 / M_PI);
+    const double dt = (a[k].translation - b[k].translation).norm();
+    const double dr = a[k].rotation.angularDistance(b[k].rotation) * 180 / M_PI;
+    t = std::max(t, dt);
+    r = std::max(r, dr);
+    t2 += dt * dt;
+    r2 += dr * dr;
   }
-  return {t, r};
+  const double n = std::max<double>(1, a.size());
+  s->max_translation_change = t;
+  s->max_rotation_change_deg = r;
+  s->rms_translation_change = std::sqrt(t2 / n);
+  s->rms_rotation_change_deg = std::sqrt(r2 / n);
 }
 
 // The 90th percentile of the distances between the two sightings of matched points under
@@ -87,7 +96,13 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     while (first_structure < schedule.iterations() && !schedule.Full(first_structure)) ++first_structure;
   }
 
-  for (int it = 0; it < schedule.iterations(); ++it) {
+  // The schedule's iterations, then added polish iterations while the poses still move.
+  auto more = [&](int it) {
+    if (it < schedule.iterations()) return true;
+    return it < schedule.iterations() + options.windows.max_added_polish && !result.iterations.empty() &&
+           result.iterations.back().rms_translation_change > options.windows.polish_tolerance;
+  };
+  for (int it = 0; more(it); ++it) {
     Timer timer;
     IterationSummary s;
     s.iteration = it;
@@ -145,7 +160,8 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     s.seconds_structure = stage.Seconds();
 
     SolverOptions solver = options.solver;
-    const double t = schedule.iterations() > 1 ? static_cast<double>(it) / (schedule.iterations() - 1) : 1.0;
+    const double t =
+        schedule.iterations() > 1 ? std::min(1.0, static_cast<double>(it) / (schedule.iterations() - 1)) : 1.0;
     auto scheduled = [t](double initial, double final_weight) {
       return initial < 0 ? final_weight : initial + t * (final_weight - initial);
     };
@@ -164,13 +180,13 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     if (schedule.Polishing(it) && !options.loops.in_polish) constraints.matches.clear();
     s.solve = SolvePoses(constraints, solver, &result.poses);
     s.seconds_solve = stage.Seconds();
-    std::tie(s.max_translation_change, s.max_rotation_change_deg) = MaxChange(before, result.poses);
+    PoseChange(before, result.poses, &s);
     s.seconds = timer.Seconds();
     if (!run.quiet) {
-      spdlog::info("refine {}/{}: windows of {:.4g} {} ({}), {} pairs, {} correspondences, {} SIFT loops (+{}), "
+      spdlog::info("refine {}/{}{}: windows of {:.4g} {} ({}), {} pairs, {} correspondences, {} SIFT loops (+{}), "
                    "{} parents, {} relations, "
                    "E_C {:.4g} -> {:.4g}, {} Ceres iterations, max change {:.3f} m / {:.2f} deg, {:.2f} s",
-                   it + 1, schedule.iterations(), s.window_length,
+                   it + 1, schedule.iterations(), it < schedule.iterations() ? "" : " (added polish)", s.window_length,
                    options.windows.mode == WindowMode::kPath ? "m" : "frames", s.windows, s.candidate_pairs,
                    s.correspondences.total(), s.loops.pairs, s.loops.accepted, s.hierarchy.parents,
                    s.relations.total(), s.solve.cost_before.count("E_C") ? s.solve.cost_before.at("E_C") : 0.0,
@@ -203,6 +219,8 @@ nlohmann::json ToJson(const IterationSummary& s) {
           {"solve", ToJson(s.solve)},
           {"max_translation_change_m", s.max_translation_change},
           {"max_rotation_change_deg", s.max_rotation_change_deg},
+          {"rms_translation_change_m", s.rms_translation_change},
+          {"rms_rotation_change_deg", s.rms_rotation_change_deg},
           {"seconds", {{"pairs", s.seconds_pairs},
                        {"correspondences", s.seconds_correspondences},
                        {"sift_loops", s.seconds_loops},

@@ -107,6 +107,8 @@ struct IterationSummary {
   SolveSummary solve;
   double max_translation_change = 0;  // metres, over all poses
   double max_rotation_change_deg = 0;
+  double rms_translation_change = 0;  // metres, RMS over the poses
+  double rms_rotation_change_deg = 0;
   double seconds_pairs = 0, seconds_correspondences = 0, seconds_loops = 0, seconds_structure = 0, seconds_solve = 0,
          seconds = 0;
 };

@@ -36,6 +36,14 @@ struct WindowOptions {
   // correspondences use the tighter polish thresholds (refine/correspondences.h). Measured in
   // BENCHMARKS.md: the paper's final 0.15 m admits closest points on neighbouring surfaces.
   int polish_iterations = 6;
+  // Beyond the paper: while the last iteration still moved the poses by more than
+  // polish_tolerance (metres, RMS over the poses), up to max_added_polish more polish
+  // iterations follow. A loop that SIFT closes only in the first full window moves a part of
+  // the scan by decimetres; measured, six polish iterations then left it 4 cm from where it
+  // settles (BENCHMARKS.md). The RMS change of a settled scan is a few millimetres (the
+  // correspondences are re-sampled every iteration), so 1 cm ends the added iterations.
+  double polish_tolerance = 0.01;
+  int max_added_polish = 10;
   // false: the paper's ablation (--no-fine-to-coarse): every iteration has one window that
   // holds the whole scan, as many iterations as the fine-to-coarse schedule would run.
   bool fine_to_coarse = true;
@@ -51,6 +59,9 @@ struct WindowOptions {
     F2C_FIELD(v, extra_iterations, "--extra-iterations", AtLeast(0), "iterations after one window holds the whole scan");
     F2C_FIELD(v, polish_iterations, "--polish-iterations", AtLeast(0),
               "then this many more with the polish thresholds (beyond the paper; 0: the paper's schedule only)");
+    F2C_FIELD(v, polish_tolerance, "--polish-tolerance", Positive(),
+              "more polish iterations while the last moved the poses more than this (m, RMS)");
+    F2C_FIELD(v, max_added_polish, "--max-added-polish", AtLeast(0), "...at most this many (0: the fixed schedule)");
     F2C_FIELD(v, fine_to_coarse, "!--no-fine-to-coarse", {},
               "the paper's ablation: every iteration has one window holding the whole scan (as many iterations)");
   }
