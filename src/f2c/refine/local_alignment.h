@@ -28,8 +28,8 @@ struct LocalAlignmentOptions {
   // k_max: frames j + 1, ..., j + 2^k_max. The paper spans up to 16 frames (k_max 4); here
   // consecutive frames only (0). A long span carries the drift of every pair it crosses as
   // if it were one measurement, and fights the correspondences that remove that drift;
-  // measured (BENCHMARKS.md, "E_L on short spans"), spans up to 16 left the refined poses
-  // 3-4 times noisier from frame to frame than T0, since E_L then had to weigh little.
+  // measured (BENCHMARKS.md, "E_L on short spans"), with spans up to 16 E_L had to weigh
+  // little, and the refined poses were no steadier from frame to frame than T0.
   int max_power = 0;
   double icp_weight = 0.3;
   double prior_weight = 0.01;
