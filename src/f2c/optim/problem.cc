@@ -149,6 +149,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   PoseProblem pp;
   for (Pose& pose : *poses) pp.AddPose(&pose);
   const bool hold_first = options.fix_first_pose || options.weight_inertia <= 0;
+  const int first_free = hold_first ? 1 : 0;  // the first pose the solve may move
   if (hold_first) pp.FixPose(&(*poses)[0]);
   auto blocks = [&](int a, int b) {
     Pose& pa = (*poses)[a];
@@ -288,7 +289,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   // E_I: each pose's change in this iteration, w_I / n per pose; each plane's, w_I / planes.
   if (options.weight_inertia > 0) {
     const double s = std::sqrt(options.weight_inertia / n);
-    for (int i = hold_first ? 1 : 0; i < n; ++i) {
+    for (int i = first_free; i < n; ++i) {
       Pose& p = (*poses)[i];
       pp.Add(kTermI,
              PoseChangeCost::Create(previous[i].rotation, previous[i].translation, s, s * options.rotation_lever_arm),
@@ -313,13 +314,13 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   // the planes are first solved to convergence (a small problem: E_C, E_L, E_M drop out), and
   // the joint step starts from planes in balance with the current poses.
   if (use_structure && options.solve == SolveMode::kOneStep && options.plane_presolve_iterations > 0) {
-    for (int i = hold_first ? 1 : 0; i < n; ++i) pp.FixPose(&(*poses)[i]);
+    for (int i = first_free; i < n; ++i) pp.FixPose(&(*poses)[i]);
     ceres::Solver::Options planes = BaseSolverOptions(options);
     planes.max_num_iterations = options.plane_presolve_iterations;
     ceres::Solver::Summary planes_summary;
     ceres::Solve(planes, &pp.problem(), &planes_summary);
     summary.plane_presolve_iterations = static_cast<int>(planes_summary.iterations.size()) - 1;
-    for (int i = hold_first ? 1 : 0; i < n; ++i) pp.FreePose(&(*poses)[i]);
+    for (int i = first_free; i < n; ++i) pp.FreePose(&(*poses)[i]);
   }
   ceres::Solver::Options solver = BaseSolverOptions(options);
   if (options.linear_solver == LinearSolver::kCgnr) {
