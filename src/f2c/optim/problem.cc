@@ -48,15 +48,17 @@ std::unique_ptr<ceres::LossFunction> MakeLoss(RobustLoss loss, double scale, dou
 // The problem and what it refers to: losses and the manifold outlive it here.
 class PoseProblem {
  public:
-  PoseProblem() : problem_(ProblemOptions()) {}
+  PoseProblem() : problem_(ProblemOptions()), planes_(PlaneProblemOptions()) {}
 
   void AddPose(Pose* pose) {
     problem_.AddParameterBlock(pose->rotation_data(), 4, &quaternion_);
     problem_.AddParameterBlock(pose->translation_data(), 3);
   }
   void AddPlane(PlaneVariable* plane) {
-    problem_.AddParameterBlock(plane->normal.data(), 3, &sphere_);
-    problem_.AddParameterBlock(&plane->offset, 1);
+    for (ceres::Problem* p : {&problem_, &planes_}) {
+      p->AddParameterBlock(plane->normal.data(), 3, &sphere_);
+      p->AddParameterBlock(&plane->offset, 1);
+    }
   }
   void FreePose(Pose* pose) {
     problem_.SetParameterBlockVariable(pose->rotation_data());
@@ -69,6 +71,18 @@ class PoseProblem {
   void Add(const std::string& term, ceres::CostFunction* cost, ceres::LossFunction* loss,
            std::vector<double*> blocks) {
     terms_[term].push_back(problem_.AddResidualBlock(cost, loss, blocks));
+  }
+  // A term of the structural model: also in the plane problem, where the poses are constant.
+  void AddStructure(const std::string& term, ceres::CostFunction* cost, ceres::LossFunction* loss,
+                    std::vector<double*> blocks) {
+    Add(term, cost, loss, blocks);
+    for (double* b : blocks) {
+      if (planes_.HasParameterBlock(b)) continue;
+      auto* manifold = const_cast<ceres::Manifold*>(problem_.GetManifold(b));  // ours: quaternion_
+      planes_.AddParameterBlock(b, problem_.ParameterBlockSize(b), manifold);
+      planes_.SetParameterBlockConstant(b);
+    }
+    planes_.AddResidualBlock(cost, loss, blocks);
   }
   // A batched pair block: its term's cost is its robust cost, not Ceres' (IRLS) one.
   void AddPair(const std::string& term, PairCost* cost, std::vector<double*> blocks) {
@@ -89,11 +103,14 @@ class PoseProblem {
         costs[term] = cost;
         continue;
       }
-      ceres::Problem::EvaluateOptions options;
-      options.residual_blocks = ids;
-      options.apply_loss_function = true;
+      // Block by block: Problem::Evaluate on a subset builds a program of its own each call.
+      // (One thread: EvaluateResidualBlock refreshes its blocks' state and cannot share them.)
       double cost = 0;
-      problem_.Evaluate(options, &cost, nullptr, nullptr, nullptr);
+      for (ceres::ResidualBlockId id : ids) {
+        double c = 0;
+        problem_.EvaluateResidualBlock(id, /*apply_loss_function=*/true, &c, nullptr, nullptr);
+        cost += c;
+      }
       costs[term] = cost;
     }
     return costs;
@@ -104,6 +121,8 @@ class PoseProblem {
     return counts;
   }
   ceres::Problem& problem() { return problem_; }
+  // The structural model alone, the poses held: E_P, E_H, E_G and the planes' E_I.
+  ceres::Problem& planes() { return planes_; }
 
  private:
   static ceres::Problem::Options ProblemOptions() {
@@ -112,12 +131,18 @@ class PoseProblem {
     o.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     return o;
   }
+  static ceres::Problem::Options PlaneProblemOptions() {
+    ceres::Problem::Options o = ProblemOptions();
+    o.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;  // problem_ owns them
+    return o;
+  }
   ceres::EigenQuaternionManifold quaternion_;
   ceres::SphereManifold<3> sphere_;
   std::map<std::pair<std::string, double>, std::unique_ptr<ceres::LossFunction>> losses_;
   std::map<std::string, std::vector<ceres::ResidualBlockId>> terms_;
   std::map<std::string, std::vector<std::pair<const PairCost*, std::vector<double*>>>> pair_blocks_;
-  ceres::Problem problem_;  // last: destroyed first, before what it points to
+  ceres::Problem problem_;  // after what it points to: destroyed before it
+  ceres::Problem planes_;   // last: destroyed first, before the cost functions problem_ owns
 };
 
 }  // namespace
@@ -237,8 +262,8 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       pp.AddPlane(&children[i]);
       // E_P: w_P m_j / sum(m) times the members' mean squared distance.
       const double s = std::sqrt(options.weight_proxy * c.share / sum_p);
-      pp.Add(kTermP,
-             ProxyFitCost::Create(c.centroid.cast<double>(), s * SqrtCovariance(c.covariance.cast<double>()),
+      pp.AddStructure(kTermP,
+                      ProxyFitCost::Create(c.centroid.cast<double>(), s * SqrtCovariance(c.covariance.cast<double>()),
                                   children[i].reference),
              nullptr, {pose.rotation_data(), pose.translation_data(), children[i].normal.data(), &children[i].offset});
     }
@@ -261,12 +286,15 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       PlaneVariable& p = parents[l.parent];
       if (options.coplanarity_loss_scale > 0) {
         // The weight after the loss, so its scale stays in metres.
-        pp.Add(kTermH, CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, 1.0, c.reference, p.reference),
-               pp.Loss(RobustLoss::kCauchy, options.coplanarity_loss_scale, w, kTermH),
+        pp.AddStructure(kTermH,
+                        CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, 1.0, c.reference, p.reference),
+                        pp.Loss(RobustLoss::kCauchy, options.coplanarity_loss_scale, w, kTermH),
                {c.normal.data(), &c.offset, p.normal.data(), &p.offset});
       } else {
-        pp.Add(kTermH, CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, std::sqrt(w), c.reference, p.reference),
-               nullptr,
+        pp.AddStructure(kTermH,
+                        CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, std::sqrt(w), c.reference,
+                                                p.reference),
+                        nullptr,
                {c.normal.data(), &c.offset, p.normal.data(), &p.offset});
       }
     }
@@ -282,7 +310,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       ceres::CostFunction* cost = r.type == RelationType::kOrthogonal
                                       ? OrthogonalCost::Create(s)
                                       : ParallelCost::Create(r.type == RelationType::kParallel ? 1.0 : -1.0, s);
-      pp.Add(kTermG, cost, nullptr, {parents[r.parent_a].normal.data(), parents[r.parent_b].normal.data()});
+      pp.AddStructure(kTermG, cost, nullptr, {parents[r.parent_a].normal.data(), parents[r.parent_b].normal.data()});
     }
   }
 
@@ -301,8 +329,8 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       const double sp = std::sqrt(options.weight_inertia / static_cast<double>(parents.size()));
       for (size_t i = 0; i < parents.size(); ++i) {
         PlaneVariable& v = parents[i];
-        pp.Add(kTermI, PlaneChangeCost::Create(v.normal, v.offset, sp * options.rotation_lever_arm, sp), nullptr,
-               {v.normal.data(), &v.offset});
+        pp.AddStructure(kTermI, PlaneChangeCost::Create(v.normal, v.offset, sp * options.rotation_lever_arm, sp),
+                        nullptr, {v.normal.data(), &v.offset});
       }
     }
   }
@@ -311,16 +339,15 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   summary.cost_before = pp.TermCosts();
   // The planes start where the hierarchy put them, not where E_H and E_G balance; one joint
   // Gauss-Newton step from there overshoots (the step is rejected). So, with the poses held,
-  // the planes are first solved to convergence (a small problem: E_C, E_L, E_M drop out), and
-  // the joint step starts from planes in balance with the current poses.
+  // the planes are first solved to convergence, in a problem of their own (E_C, E_L and E_M
+  // drop out, and need not be evaluated), and the joint step starts from planes in balance
+  // with the current poses.
   if (use_structure && options.solve == SolveMode::kOneStep && options.plane_presolve_iterations > 0) {
-    for (int i = first_free; i < n; ++i) pp.FixPose(&(*poses)[i]);
     ceres::Solver::Options planes = BaseSolverOptions(options);
     planes.max_num_iterations = options.plane_presolve_iterations;
     ceres::Solver::Summary planes_summary;
-    ceres::Solve(planes, &pp.problem(), &planes_summary);
+    ceres::Solve(planes, &pp.planes(), &planes_summary);
     summary.plane_presolve_iterations = static_cast<int>(planes_summary.iterations.size()) - 1;
-    for (int i = first_free; i < n; ++i) pp.FreePose(&(*poses)[i]);
   }
   ceres::Solver::Options solver = BaseSolverOptions(options);
   if (options.linear_solver == LinearSolver::kCgnr) {
