@@ -6,9 +6,11 @@
 
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <tbb/task_arena.h>
 
+#include "f2c/optim/blas_threads.h"
 #include "f2c/optim/cost_functions.h"
 #include "f2c/optim/structure_costs.h"
 #include "f2c/util/error.h"
@@ -162,6 +164,8 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   const std::vector<FeatureCorrespondence>& correspondences = constraints.correspondences;
   const std::vector<RelativePoseConstraint>& local = constraints.local;
   options.Check();
+  static std::once_flag blas_once;  // optim/blas_threads.h: OpenBLAS's threads compete with ours
+  std::call_once(blas_once, [] { UseOneBlasThread(); });
   Timer timer;
   SolveSummary summary;
   const int n = static_cast<int>(poses->size());
