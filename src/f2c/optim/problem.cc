@@ -62,10 +62,6 @@ class PoseProblem {
       p->AddParameterBlock(&plane->offset, 1);
     }
   }
-  void FreePose(Pose* pose) {
-    problem_.SetParameterBlockVariable(pose->rotation_data());
-    problem_.SetParameterBlockVariable(pose->translation_data());
-  }
   void FixPose(Pose* pose) {
     problem_.SetParameterBlockConstant(pose->rotation_data());
     problem_.SetParameterBlockConstant(pose->translation_data());
