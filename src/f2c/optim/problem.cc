@@ -264,8 +264,9 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       const double s = std::sqrt(options.weight_proxy * c.share / sum_p);
       pp.AddStructure(kTermP,
                       ProxyFitCost::Create(c.centroid.cast<double>(), s * SqrtCovariance(c.covariance.cast<double>()),
-                                  children[i].reference),
-             nullptr, {pose.rotation_data(), pose.translation_data(), children[i].normal.data(), &children[i].offset});
+                                           children[i].reference),
+                      nullptr,
+                      {pose.rotation_data(), pose.translation_data(), children[i].normal.data(), &children[i].offset});
     }
     for (size_t i = 0; i < parents.size(); ++i) {
       parents[i].normal = structure.parents[i].normal.normalized();
@@ -289,13 +290,12 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
         pp.AddStructure(kTermH,
                         CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, 1.0, c.reference, p.reference),
                         pp.Loss(RobustLoss::kCauchy, options.coplanarity_loss_scale, w, kTermH),
-               {c.normal.data(), &c.offset, p.normal.data(), &p.offset});
+                        {c.normal.data(), &c.offset, p.normal.data(), &p.offset});
       } else {
         pp.AddStructure(kTermH,
                         CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, std::sqrt(w), c.reference,
                                                 p.reference),
-                        nullptr,
-               {c.normal.data(), &c.offset, p.normal.data(), &p.offset});
+                        nullptr, {c.normal.data(), &c.offset, p.normal.data(), &p.offset});
       }
     }
     // E_G: w_G w_ab / sum(w) per relation.
