@@ -5,9 +5,12 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include "f2c/optim/blas_threads.h"
@@ -68,7 +71,8 @@ class PoseProblem {
   }
   void Add(const std::string& term, ceres::CostFunction* cost, ceres::LossFunction* loss,
            std::vector<double*> blocks) {
-    terms_[term].push_back(problem_.AddResidualBlock(cost, loss, blocks));
+    problem_.AddResidualBlock(cost, loss, blocks);
+    terms_[term].push_back({cost, loss, std::move(blocks)});
   }
   // A term of the structural model: also in the plane problem, where the poses are constant.
   void AddStructure(const std::string& term, ceres::CostFunction* cost, ceres::LossFunction* loss,
@@ -84,38 +88,47 @@ class PoseProblem {
   }
   // A batched pair block: its term's cost is its robust cost, not Ceres' (IRLS) one.
   void AddPair(const std::string& term, PairCost* cost, std::vector<double*> blocks) {
-    pair_blocks_[term].push_back({cost, blocks});
-    Add(term, cost, nullptr, blocks);
+    pair_blocks_.insert(term);
+    Add(term, cost, nullptr, std::move(blocks));
   }
   ceres::LossFunction* Loss(RobustLoss type, double scale, double weight, const std::string& term) {
     auto& slot = losses_[{term, weight}];
     if (!slot) slot = MakeLoss(type, scale, weight);
     return slot.get();
   }
-  std::map<std::string, double> TermCosts() {
+  // Each term's cost, 1/2 sum of robustified squares (as Ceres counts it), the blocks in
+  // parallel: the cost functions are evaluated directly (no Jacobians), which reads the
+  // parameters and changes nothing, where Problem::EvaluateResidualBlock refreshes its blocks'
+  // state and must run alone. Summed in order, so the numbers do not depend on the threads.
+  std::map<std::string, double> TermCosts() const {
     std::map<std::string, double> costs;
-    for (auto& [term, ids] : terms_) {
-      if (pair_blocks_.count(term)) {
-        double cost = 0;
-        for (const auto& [block, parameters] : pair_blocks_.at(term)) cost += block->RobustCost(parameters.data());
-        costs[term] = cost;
-        continue;
-      }
-      // Block by block: Problem::Evaluate on a subset builds a program of its own each call.
-      // (One thread: EvaluateResidualBlock refreshes its blocks' state and cannot share them.)
+    for (const auto& [term, list] : terms_) {
+      std::vector<double> block_cost(list.size(), 0.0);
+      const bool batched = pair_blocks_.count(term) > 0;  // its term's cost is its robust cost
+      tbb::parallel_for(size_t{0}, list.size(), [&](size_t i) {
+        const ResidualTerm& b = list[i];
+        if (batched) {
+          block_cost[i] = static_cast<const PairCost*>(b.cost)->RobustCost(b.blocks.data());
+          return;
+        }
+        Eigen::VectorXd r(b.cost->num_residuals());
+        if (!b.cost->Evaluate(b.blocks.data(), r.data(), nullptr)) {
+          block_cost[i] = std::numeric_limits<double>::quiet_NaN();
+          return;
+        }
+        double rho[3] = {r.squaredNorm(), 1, 0};
+        if (b.loss != nullptr) b.loss->Evaluate(r.squaredNorm(), rho);
+        block_cost[i] = 0.5 * rho[0];
+      });
       double cost = 0;
-      for (ceres::ResidualBlockId id : ids) {
-        double c = 0;
-        problem_.EvaluateResidualBlock(id, /*apply_loss_function=*/true, &c, nullptr, nullptr);
-        cost += c;
-      }
+      for (double c : block_cost) cost += c;
       costs[term] = cost;
     }
     return costs;
   }
   std::map<std::string, int> Counts() const {
     std::map<std::string, int> counts;
-    for (const auto& [term, ids] : terms_) counts[term] = static_cast<int>(ids.size());
+    for (const auto& [term, list] : terms_) counts[term] = static_cast<int>(list.size());
     return counts;
   }
   ceres::Problem& problem() { return problem_; }
@@ -137,8 +150,13 @@ class PoseProblem {
   ceres::EigenQuaternionManifold quaternion_;
   ceres::SphereManifold<3> sphere_;
   std::map<std::pair<std::string, double>, std::unique_ptr<ceres::LossFunction>> losses_;
-  std::map<std::string, std::vector<ceres::ResidualBlockId>> terms_;
-  std::map<std::string, std::vector<std::pair<const PairCost*, std::vector<double*>>>> pair_blocks_;
+  struct ResidualTerm {
+    const ceres::CostFunction* cost;
+    const ceres::LossFunction* loss;
+    std::vector<double*> blocks;
+  };
+  std::map<std::string, std::vector<ResidualTerm>> terms_;
+  std::set<std::string> pair_blocks_;  // terms of batched pair blocks
   ceres::Problem problem_;  // after what it points to: destroyed before it
   ceres::Problem planes_;   // last: destroyed first, before the cost functions problem_ owns
 };
@@ -336,7 +354,9 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   }
 
   summary.residual_blocks = pp.Counts();
+  Timer dbg_c1;
   summary.cost_before = pp.TermCosts();
+  double dbg_t = dbg_c1.Seconds();
   // The planes start where the hierarchy put them, not where E_H and E_G balance; one joint
   // Gauss-Newton step from there overshoots (the step is rejected). So, with the poses held,
   // the planes are first solved to convergence, in a problem of their own (E_C, E_L and E_M
@@ -362,7 +382,9 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   }
   ceres::Solver::Summary ceres_summary;
   ceres::Solve(solver, &pp.problem(), &ceres_summary);
+  dbg_c1.Restart();
   summary.cost_after = pp.TermCosts();
+  if (getenv("F2C_DEBUG_COSTS")) fprintf(stderr, "DBGC %.4f\n", dbg_t + dbg_c1.Seconds());
   summary.iterations = static_cast<int>(ceres_summary.iterations.size()) - 1;
   summary.termination = ceres::TerminationTypeToString(ceres_summary.termination_type);
   summary.usable = ceres_summary.IsSolutionUsable();

@@ -190,6 +190,14 @@ TEST(SolvePoses, TermWeightsAreTotalsSharedAmongResiduals) {
   // E_I starts at zero and ends small; E_L almost vanishes.
   EXPECT_NEAR(s.cost_before.at("E_I"), 0.0, 1e-15);
   EXPECT_LT(s.cost_after.at("E_L"), 1e-4);
+
+  // Through a Cauchy loss of scale c the reported cost is the robust one:
+  // w_L / 2 * c^2 log(1 + 0.1^2 / c^2).
+  poses = PoseVector(2);
+  poses[1].translation = Eigen::Vector3d(1.1, 0, 0);
+  options.local_loss_scale = 0.05;
+  const SolveSummary robust = SolvePoses({{}, local, {}, {}}, options, &poses);
+  EXPECT_NEAR(robust.cost_before.at("E_L"), 0.5 * 300 * 0.0025 * std::log(1 + 0.01 / 0.0025), 1e-9);
 }
 
 TEST(SolvePoses, OneGaussNewtonStepReducesTheCost) {
