@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
+#include <random>
 
 #include "f2c/testing/synthetic_scene.h"
 
@@ -94,6 +95,59 @@ TEST(MatchSiftRatio, RatioTestAndItsRelaxation) {
   ASSERT_EQ(relaxed.size(), 2u);
   EXPECT_EQ(relaxed[1].query, 1);
   EXPECT_EQ(relaxed[1].train, 0);
+}
+
+// The matrix-product distances pick the same matches as a plain double-precision search, on
+// SIFT-like descriptors (128 bytes-valued floats) where some queries are noisy copies of a
+// train descriptor and the rest are unrelated.
+TEST(MatchSiftRatio, SameMatchesAsABruteForceSearch) {
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> byte(0, 255);
+  std::normal_distribution<float> noise(0.0f, 6.0f);
+  SiftFeatures train, query;
+  const int nt = 300, nq = 260, dim = 128;
+  train.descriptors.create(nt, dim, CV_32F);
+  query.descriptors.create(nq, dim, CV_32F);
+  for (int i = 0; i < nt; ++i) {
+    for (int d = 0; d < dim; ++d) train.descriptors.at<float>(i, d) = static_cast<float>(byte(rng));
+  }
+  for (int i = 0; i < nq; ++i) {
+    for (int d = 0; d < dim; ++d) {
+      query.descriptors.at<float>(i, d) = i % 2 == 0 ? train.descriptors.at<float>((7 * i) % nt, d) + noise(rng)
+                                                     : static_cast<float>(byte(rng));
+    }
+  }
+  train.points_in_camera.resize(nt);
+  query.points_in_camera.resize(nq);
+  const double ratio = 0.8;
+  std::vector<SiftMatch> expected;
+  for (int i = 0; i < nq; ++i) {
+    double first = 1e300, second = 1e300;
+    int best = -1;
+    for (int j = 0; j < nt; ++j) {
+      double d2 = 0;
+      for (int d = 0; d < dim; ++d) {
+        const double e = double{query.descriptors.at<float>(i, d)} - train.descriptors.at<float>(j, d);
+        d2 += e * e;
+      }
+      if (d2 < first) {
+        second = first;
+        first = d2;
+        best = j;
+      } else if (d2 < second) {
+        second = d2;
+      }
+    }
+    if (std::sqrt(first) < ratio * std::sqrt(second)) expected.push_back({i, best});
+  }
+  const std::vector<SiftMatch> got = MatchSiftRatio(query, train, ratio, ratio, 0);
+  ASSERT_EQ(got.size(), expected.size());
+  EXPECT_EQ(got.size(), static_cast<size_t>(nq / 2));  // the noisy copies, and nothing else
+  for (size_t k = 0; k < got.size(); ++k) {
+    EXPECT_EQ(got[k].query, expected[k].query);
+    EXPECT_EQ(got[k].train, expected[k].train);
+    EXPECT_EQ(got[k].train, (7 * got[k].query) % nt);
+  }
 }
 
 }  // namespace
