@@ -27,7 +27,7 @@ int RunFeatures(const FeaturesArgs& args) {
   args.features.Check();  // before any file is read
   const fs::path out = args.output;
   const RgbdSequence seq = ReadSequence(args.input, args.io);  // a bad input leaves no output folder
-  EnsureWritableDirectory(out);
+  const OutputFolder output_folder(out);  // a run stopped by an error leaves no empty folders
   spdlog::info("{}: {} layout, {} frames", args.input, LayoutName(seq.layout), seq.frames.size());
   FeatureRun run;
   run.quiet = args.quiet;

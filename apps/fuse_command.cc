@@ -26,7 +26,7 @@ int RunFuse(const FuseArgs& args) {
   const RgbdSequence seq = ReadSequence(args.input, args.io);  // the inputs first: no folder left behind
   RequireIntrinsics(seq);
   const Trajectory trajectory = ReadTrajectoryFile(args.trajectory);
-  EnsureWritableDirectory(out.parent_path().empty() ? fs::path(".") : out.parent_path());
+  const OutputFolder output_folder(out.parent_path().empty() ? fs::path(".") : out.parent_path());
   const auto poses = PosesForFrames(seq, trajectory, args.io.max_time_difference, args.trajectory);
   spdlog::info("{}: {} frames, {} with a pose in {}", args.input, seq.frames.size(),
                std::count_if(poses.begin(), poses.end(), [](const auto& p) { return p.has_value(); }), args.trajectory);

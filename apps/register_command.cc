@@ -95,7 +95,7 @@ int RunRegister(const RegisterArgs& args) {
   // both fail in seconds, before minutes of work.
   const RgbdSequence seq = ReadSequence(args.input, args.io);
   const double read_s = timer.Seconds();
-  EnsureWritableDirectory(out);
+  const OutputFolder output_folder(out);  // a run stopped by an error leaves no empty folders
   spdlog::info("{}: {} layout, {} frames", args.input, LayoutName(seq.layout), seq.frames.size());
   if (seq.frames.size() < 2) ThrowInputError(args.input, "registration needs at least 2 frames");
 

@@ -3,11 +3,15 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <exception>
 #include <fstream>
+#include <iterator>
 #include <sstream>
+#include <vector>
 
 #include "f2c/util/error.h"
 
@@ -74,6 +78,36 @@ void EnsureWritableDirectory(const fs::path& dir) {
     if (!out) ThrowInputError(dir, "output folder is not writable");
   }
   fs::remove(probe, ec);
+}
+
+OutputFolder::OutputFolder(const fs::path& dir) : dir_(dir), exceptions_(std::uncaught_exceptions()) {
+  std::error_code ec;
+  existed_ = fs::exists(dir_, ec);
+  if (existed_ && fs::is_directory(dir_, ec)) {
+    for (auto it = fs::recursive_directory_iterator(dir_, ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec)) {
+      if (it->is_directory(ec)) folders_before_.insert(it->path());
+    }
+  }
+  EnsureWritableDirectory(dir_);
+}
+
+OutputFolder::~OutputFolder() {
+  if (std::uncaught_exceptions() <= exceptions_) return;
+  std::error_code ec;
+  std::vector<fs::path> made;
+  for (auto it = fs::recursive_directory_iterator(dir_, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec)) {
+    std::error_code type_ec;
+    if (it->is_directory(type_ec) && !folders_before_.count(it->path())) made.push_back(it->path());
+  }
+  // Deepest first, so a folder whose only content was an empty folder goes too. remove()
+  // deletes a folder only when it is empty.
+  std::sort(made.begin(), made.end(), [](const fs::path& a, const fs::path& b) {
+    return std::distance(a.begin(), a.end()) > std::distance(b.begin(), b.end());
+  });
+  for (const fs::path& folder : made) fs::remove(folder, ec);
+  if (!existed_) fs::remove(dir_, ec);
 }
 
 uint64_t Fnv1a64(std::string_view bytes, uint64_t seed) {

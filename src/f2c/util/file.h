@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <set>
 #include <string>
 #include <string_view>
 
@@ -19,6 +20,25 @@ void WriteFileAtomic(const std::filesystem::path& path, std::string_view content
 // Creates `dir` (and parents) and checks that a file can be created in it; InputError
 // naming the folder otherwise.
 void EnsureWritableDirectory(const std::filesystem::path& dir);
+
+// A command's output folder, made writable on construction (EnsureWritableDirectory). When
+// the command leaves by an exception (a corrupt image found mid-run), the destructor removes
+// the folders it made that are still empty: subfolders that were not there before, and the
+// output folder itself when it was not. Files are never removed (each is written whole, so a
+// finished cache stays valid), nor a folder that holds anything.
+class OutputFolder {
+ public:
+  explicit OutputFolder(const std::filesystem::path& dir);
+  ~OutputFolder();
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+
+ private:
+  std::filesystem::path dir_;
+  bool existed_ = false;
+  std::set<std::filesystem::path> folders_before_;
+  int exceptions_ = 0;  // std::uncaught_exceptions() when made
+};
 
 // 64-bit FNV-1a: stable across runs, platforms and compilers (unlike std::hash), which is
 // what a cache key on disk needs.

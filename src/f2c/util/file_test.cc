@@ -17,6 +17,41 @@ fs::path TempDir(const std::string& name) {
   return dir;
 }
 
+// A run that fails part-way: the folders it made and left empty go, its files and what was
+// there before stay; a run that finishes keeps everything.
+TEST(OutputFolder, AFailedRunLeavesOnlyItsFilesAndWhatWasThere) {
+  const fs::path root = TempDir("output_folder");
+  const fs::path fresh = root / "fresh";
+  try {
+    const OutputFolder folder(fresh);
+    fs::create_directories(fresh / "cache" / "deeper");
+    throw InputError("stopped");
+  } catch (const InputError&) {
+  }
+  EXPECT_FALSE(fs::exists(fresh));
+
+  const fs::path used = root / "used";
+  fs::create_directories(used / "mine");  // empty, but the user's
+  try {
+    const OutputFolder folder(used);
+    fs::create_directories(used / "cache");
+    fs::create_directories(used / "iterations");
+    WriteFileAtomic(used / "cache" / "odometry.bin", "done");
+    throw InputError("stopped");
+  } catch (const InputError&) {
+  }
+  EXPECT_TRUE(fs::is_directory(used / "mine"));
+  EXPECT_EQ(ReadFileToString(used / "cache" / "odometry.bin"), "done");
+  EXPECT_FALSE(fs::exists(used / "iterations"));
+
+  const fs::path kept = root / "kept";
+  {
+    const OutputFolder folder(kept);
+    fs::create_directories(kept / "cache");
+  }
+  EXPECT_TRUE(fs::is_directory(kept / "cache"));
+}
+
 TEST(WriteFileAtomic, WritesContentAndLeavesNoTemporaryFile) {
   const fs::path dir = TempDir("atomic");
   WriteFileAtomic(dir / "a.txt", "hello\n");
