@@ -11,7 +11,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libceres-dev libopencv-dev libnanoflann-dev libopenblas0-pthread
-  libdeflate-dev libturbojpeg0-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libtbb-dev
+  libdeflate-dev libturbojpeg0-dev libxxhash-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev libtinyxml2-dev
   libjs-three chromium
   clang libclang-rt-14-dev

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <unistd.h>
+#include <xxhash.h>
 
 #include <algorithm>
 #include <atomic>
@@ -119,7 +120,10 @@ uint64_t Fnv1a64(std::string_view bytes, uint64_t seed) {
   return hash;
 }
 
-uint64_t HashFile(const fs::path& path) { return Fnv1a64(ReadFileToString(path)); }
+uint64_t HashFile(const fs::path& path) {
+  const std::string bytes = ReadFileToString(path);
+  return XXH3_64bits(bytes.data(), bytes.size());
+}
 
 std::string HexString(uint64_t value) { return fmt::format("{:016x}", value); }
 

@@ -43,7 +43,9 @@ class OutputFolder {
 // 64-bit FNV-1a: stable across runs, platforms and compilers (unlike std::hash), which is
 // what a cache key on disk needs.
 uint64_t Fnv1a64(std::string_view bytes, uint64_t seed = 0xcbf29ce484222325ULL);
-// Hash of a file's bytes; InputError if it cannot be read.
+// Hash of a file's bytes (XXH3, 64 bits: stable across platforms like FNV-1a, and about ten
+// times faster on the megabytes of a frame's images, which every cached run hashes);
+// InputError if it cannot be read.
 uint64_t HashFile(const std::filesystem::path& path);
 std::string HexString(uint64_t value);
 

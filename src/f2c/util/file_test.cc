@@ -52,6 +52,22 @@ TEST(OutputFolder, AFailedRunLeavesOnlyItsFilesAndWhatWasThere) {
   EXPECT_TRUE(fs::is_directory(kept / "cache"));
 }
 
+// The caches on disk are keyed by these hashes: XXH3's published value for no bytes (so a
+// library update that changed them would show here), and one changed byte changes the hash.
+TEST(HashFile, IsXxh3OfTheBytes) {
+  const fs::path dir = TempDir("hash");
+  WriteFileAtomic(dir / "empty", "");
+  EXPECT_EQ(HashFile(dir / "empty"), 0x2d06800538d394c2ULL);
+  std::string bytes(1 << 20, 'x');
+  WriteFileAtomic(dir / "a", bytes);
+  bytes[777777] = 'y';
+  WriteFileAtomic(dir / "b", bytes);
+  WriteFileAtomic(dir / "c", bytes);
+  EXPECT_NE(HashFile(dir / "a"), HashFile(dir / "b"));
+  EXPECT_EQ(HashFile(dir / "b"), HashFile(dir / "c"));
+  EXPECT_THROW(HashFile(dir / "missing"), InputError);
+}
+
 TEST(WriteFileAtomic, WritesContentAndLeavesNoTemporaryFile) {
   const fs::path dir = TempDir("atomic");
   WriteFileAtomic(dir / "a.txt", "hello\n");
