@@ -9,9 +9,11 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "bench_data.h"
 #include "f2c/features/depth_features.h"
 #include "f2c/io/image.h"
 #include "f2c/io/sequence.h"
@@ -26,14 +28,9 @@ int main(int argc, char** argv) {
   std::printf("|---|---|---|---|---|---|\n");
   for (const char* name : {"tum_fr1_xyz_15hz", "7scenes_redkitchen_15hz", "tum_fr1_desk_9", "sun3d_mit76_studyroom_5",
                            "open3d_testdata_rgbd"}) {
-    const std::filesystem::path dir = data / name;
-    if (!std::filesystem::exists(dir)) {
-      std::fprintf(stderr, "skip %s: %s absent\n", name, dir.string().c_str());
-      continue;
-    }
-    IoOptions io;
-    if (std::filesystem::exists(dir / "rgb.txt")) io.intrinsics = "tum-fr1";
-    const RgbdSequence seq = ReadSequence(dir, io);
+    const std::optional<RgbdSequence> opened = bench::OpenSequence(data, name);
+    if (!opened) continue;
+    const RgbdSequence& seq = *opened;
     std::vector<cv::Mat> depths;
     for (const RgbdFrame& f : seq.frames) depths.push_back(LoadDepthMeters(seq, f));
     const FeatureOptions options;

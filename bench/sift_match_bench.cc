@@ -10,9 +10,11 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "bench_data.h"
 #include "f2c/io/image.h"
 #include "f2c/io/sequence.h"
 #include "f2c/matching/sift.h"
@@ -42,14 +44,9 @@ int main(int argc, char** argv) {
   std::printf("| sequence | pairs | keypoints per frame | OpenCV BFMatcher (ms/pair) | MatchSiftRatio (ms/pair) | same matches |\n");
   std::printf("|---|---|---|---|---|---|\n");
   for (const char* name : {"tum_fr1_xyz_15hz", "7scenes_redkitchen_15hz"}) {
-    const std::filesystem::path dir = data / name;
-    if (!std::filesystem::exists(dir)) {
-      std::fprintf(stderr, "skip %s: %s absent\n", name, dir.string().c_str());
-      continue;
-    }
-    IoOptions io;
-    if (std::filesystem::exists(dir / "rgb.txt")) io.intrinsics = "tum-fr1";
-    const RgbdSequence seq = ReadSequence(dir, io);
+    const std::optional<RgbdSequence> opened = bench::OpenSequence(data, name);
+    if (!opened) continue;
+    const RgbdSequence& seq = *opened;
     const SiftOptions options;
     std::vector<std::pair<SiftFeatures, SiftFeatures>> frames;
     const int step = std::max<int>(1, (static_cast<int>(seq.frames.size()) - 6) / pairs);
