@@ -102,9 +102,10 @@ class PoseProblem {
   // state and must run alone. Summed in order, so the numbers do not depend on the threads.
   std::map<std::string, double> TermCosts() const {
     std::map<std::string, double> costs;
-    for (const auto& [term, list] : terms_) {
+    for (const auto& entry : terms_) {
+      const std::vector<ResidualTerm>& list = entry.second;  // not a structured binding: the lambda captures it
       std::vector<double> block_cost(list.size(), 0.0);
-      const bool batched = pair_blocks_.count(term) > 0;  // its term's cost is its robust cost
+      const bool batched = pair_blocks_.count(entry.first) > 0;  // its term's cost is its robust cost
       tbb::parallel_for(size_t{0}, list.size(), [&](size_t i) {
         const ResidualTerm& b = list[i];
         if (batched) {
@@ -122,7 +123,7 @@ class PoseProblem {
       });
       double cost = 0;
       for (double c : block_cost) cost += c;
-      costs[term] = cost;
+      costs[entry.first] = cost;
     }
     return costs;
   }
