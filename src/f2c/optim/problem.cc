@@ -355,9 +355,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   }
 
   summary.residual_blocks = pp.Counts();
-  Timer dbg_c1;
   summary.cost_before = pp.TermCosts();
-  double dbg_t = dbg_c1.Seconds();
   // The planes start where the hierarchy put them, not where E_H and E_G balance; one joint
   // Gauss-Newton step from there overshoots (the step is rejected). So, with the poses held,
   // the planes are first solved to convergence, in a problem of their own (E_C, E_L and E_M
@@ -383,9 +381,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   }
   ceres::Solver::Summary ceres_summary;
   ceres::Solve(solver, &pp.problem(), &ceres_summary);
-  dbg_c1.Restart();
   summary.cost_after = pp.TermCosts();
-  if (getenv("F2C_DEBUG_COSTS")) fprintf(stderr, "DBGC %.4f\n", dbg_t + dbg_c1.Seconds());
   summary.iterations = static_cast<int>(ceres_summary.iterations.size()) - 1;
   summary.termination = ceres::TerminationTypeToString(ceres_summary.termination_type);
   summary.usable = ceres_summary.IsSolutionUsable();
