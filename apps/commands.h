@@ -41,6 +41,9 @@ struct RegisterArgs {
   bool extract_features = true;  // the refinement's input; cached in OUTDIR/cache/features.f2cf
   RefineOptions refine;
   bool run_refinement = true;     // false: --stop-after odometry (T0 is the result)
+  // The refinement starts from these poses instead of T0 (--initial-trajectory; empty: T0).
+  // E_L still holds the odometry's relative poses.
+  std::string initial_trajectory;
   bool save_iterations = false;   // OUTDIR/iterations/iteration_NN.txt
   bool fuse_mesh = true;           // OUTDIR/mesh.ply from the final poses (--no-mesh: off)
   bool write_report = true;        // OUTDIR/report.html (--no-report: off)

@@ -19,6 +19,7 @@
 #include "apps/run_report.h"
 #include "f2c/features/feature_set.h"
 #include "f2c/io/conf.h"
+#include "f2c/io/trajectory.h"
 #include "f2c/util/error.h"
 #include "f2c/util/fields_json.h"
 #include "f2c/util/file.h"
@@ -95,6 +96,13 @@ int RunRegister(const RegisterArgs& args) {
   // both fail in seconds, before minutes of work.
   const RgbdSequence seq = ReadSequence(args.input, args.io);
   const double read_s = timer.Seconds();
+  // A given start for the refinement, checked against the frames before any work.
+  std::optional<std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>>> initial_poses;
+  if (!args.initial_trajectory.empty() && args.run_refinement) {
+    std::vector<double> times;
+    for (const RgbdFrame& f : seq.frames) times.push_back(f.timestamp);
+    initial_poses = PosesForFrames(ReadTrajectoryFile(args.initial_trajectory), times, args.initial_trajectory);
+  }
   const OutputFolder output_folder(out);  // a run stopped by an error leaves no empty folders
   spdlog::info("{}: {} layout, {} frames", args.input, LayoutName(seq.layout), seq.frames.size());
   if (seq.frames.size() < 2) ThrowInputError(args.input, "registration needs at least 2 frames");
@@ -176,7 +184,9 @@ int RunRegister(const RegisterArgs& args) {
       spdlog::info("keyframes: {} with SIFT for loop pairs ({} decoded again, {:.1f} s)", keyframes.size(),
                    keyframe_store->computed(), keyframe_s);
     }
-    const RefineResult refined = RefineFineToCoarse(*index, odometry.pairs, odometry.t0, *seq.intrinsics, args.refine,
+    Trajectory initial = odometry.t0;
+    if (initial_poses) initial.world_from_camera = *initial_poses;
+    const RefineResult refined = RefineFineToCoarse(*index, odometry.pairs, initial, *seq.intrinsics, args.refine,
                                                     refine_run, std::move(keyframes));
     result = ToTrajectory(odometry.t0, refined.poses);
     json iterations = json::array();
@@ -188,6 +198,7 @@ int RunRegister(const RegisterArgs& args) {
                     {"index_bytes", index->MemoryBytes()},
                     {"peak_memory_bytes_before", peak_before_refine},
                     {"peak_memory_bytes_after", PeakResidentBytes()},
+                    {"initial", args.initial_trajectory.empty() ? "T0" : args.initial_trajectory},
                     {"iterations", iterations}};
     spdlog::info("refinement: {} iterations in {:.1f} s ({:.1f} ms per frame)", refined.iterations.size(),
                  refined.seconds + index_s, 1000.0 * (refined.seconds + index_s) / seq.frames.size());
@@ -285,6 +296,10 @@ Subcommand AddRegisterCommand(CLI::App* app) {
   auto write_config = std::make_shared<std::string>();
   cmd->add_option("--write-config", *write_config, "write this run's options (all of them) to FILE as TOML, for --config")
       ->group("Output");
+  cmd->add_option("--initial-trajectory", args->initial_trajectory,
+                  "refine from these poses (TUM, .log or .conf; one per frame, by time stamp) instead of T0")
+      ->type_name("FILE")
+      ->group("Refinement: windows (paper 4.2)");
   cmd->add_flag("--save-iterations", args->save_iterations, "write each refinement iteration's trajectory to OUTDIR/iterations/");
   AddFieldFlags(cmd, &args->fusion);
   cmd->add_flag("--no-mesh", flags->no_mesh, "do not fuse the frames into OUTDIR/mesh.ply");

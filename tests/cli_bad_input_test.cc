@@ -3,11 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "f2c/io/trajectory.h"
 #include "f2c/testing/synthetic_scene.h"
 #include "f2c/util/file.h"
 #include "tests/cli_helpers.h"
@@ -75,6 +78,23 @@ TEST(Cli, BadRefinementOptionFailsBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(out));
   EXPECT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --windows time -o " + out.string()).output,
             "error: --windows: unknown value 'time' (frames, path)\n");
+}
+
+// A start trajectory that misses a frame is refused before any work, naming the frame.
+TEST(Cli, InitialTrajectoryWithoutAFrameFailsBeforeAnyWork) {
+  const fs::path dir = SyntheticTum("cli_initial_bad", 3);
+  Trajectory truth = ReadTumTrajectory(dir / "groundtruth.txt");
+  Trajectory two;
+  for (size_t i : {0, 2}) two.Add(truth.timestamps[i], truth.world_from_camera[i]);
+  const fs::path start = testing::FreshTempDir("cli_initial_bad_start") / "start.txt";
+  WriteTumTrajectory(start, two);
+  const fs::path out = testing::FreshTempDir("cli_initial_bad_out") / "run";
+  const Result r = RunCli("register " + dir.string() + " --intrinsics primesense -q --initial-trajectory " +
+                          start.string() + " -o " + out.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.output, fmt::format("error: {}: no pose within 1 ms of frame 1 (time stamp {:.6f} s)\n", start.string(),
+                                  truth.timestamps[1]));
+  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(Cli, CorruptFrameExitsOneNamingTheFile) {

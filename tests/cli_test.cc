@@ -153,6 +153,29 @@ TEST(Cli, RegisterRefinesAndKeepsT0) {
   EXPECT_EQ(ReadFileToString(odo / "trajectory_t0.txt"), ReadFileToString(out / "trajectory_t0.txt"));
 }
 
+// --initial-trajectory: the refinement starts from the given poses, not T0. The whole truth
+// moved by 1 m: the free gauge keeps frame 0 where the start put it, and the others stay
+// with it, so the result is the moved truth, not T0's frame.
+TEST(Cli, RegisterRefinesFromAGivenTrajectory) {
+  const fs::path dir = SyntheticTum("cli_initial", 12);
+  const Trajectory truth = ReadTumTrajectory(dir / "groundtruth.txt");
+  Trajectory moved = truth;
+  for (Rigid3d& pose : moved.world_from_camera) pose.translation() += Eigen::Vector3d(1, 0, 0);
+  const fs::path start = testing::FreshTempDir("cli_initial_start") / "start.txt";
+  WriteTumTrajectory(start, moved);
+  const fs::path out = testing::FreshTempDir("cli_initial_out");
+  const Result r = RunCli("register " + dir.string() + " --intrinsics primesense -q --window-frames 4 --no-mesh " +
+                          "--no-report --initial-trajectory " + start.string() + " -o " + out.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const Trajectory refined = ReadTumTrajectory(out / "trajectory.txt");
+  ASSERT_EQ(refined.size(), 12u);
+  EXPECT_LT((refined.world_from_camera[0].translation() - moved.world_from_camera[0].translation()).norm(), 1e-6);
+  for (size_t i = 0; i < refined.size(); ++i) {
+    EXPECT_LT((refined.world_from_camera[i].translation() - moved.world_from_camera[i].translation()).norm(), 0.01) << i;
+  }
+  EXPECT_NE(ReadFileToString(out / "run.json").find("\"initial\": \"" + start.string() + "\""), std::string::npos);
+}
+
 // fuse: a dataset and any trajectory file to a mesh on the scene's surfaces; register fuses
 // its final poses into OUTDIR/mesh.ply unless --no-mesh.
 TEST(Cli, FuseWritesTheRoomsSurfacesAndRegisterFusesItsPoses) {

@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include <Eigen/Geometry>
 
 #include "f2c/io/conf.h"
@@ -95,6 +98,46 @@ Trajectory ReadTrajectoryFile(const std::filesystem::path& path) {
   if (ext == ".log") return ReadLogTrajectory(path);
   if (ext == ".conf") return ReadConf(path).trajectory;
   return ReadTumTrajectory(path);
+}
+
+std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> PosesForFrames(const Trajectory& trajectory,
+                                                                       const std::vector<double>& frame_times,
+                                                                       const std::filesystem::path& path,
+                                                                       double max_difference) {
+  const size_t n = frame_times.size();
+  if (!trajectory.has_timestamps) {
+    if (trajectory.size() != n) {
+      ThrowInputError(path, fmt::format("{} poses for {} frames (a file without time stamps needs one pose per frame, "
+                                        "in order)",
+                                        trajectory.size(), n));
+    }
+    return trajectory.world_from_camera;
+  }
+  // Time stamps in any order: the nearest by binary search over the sorted ones.
+  std::vector<size_t> order(trajectory.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return trajectory.timestamps[a] < trajectory.timestamps[b]; });
+  std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> poses;
+  poses.reserve(n);
+  for (size_t f = 0; f < n; ++f) {
+    const double t = frame_times[f];
+    auto it = std::lower_bound(order.begin(), order.end(), t,
+                               [&](size_t i, double value) { return trajectory.timestamps[i] < value; });
+    size_t best = order.size();
+    double best_gap = max_difference;
+    for (auto c : {it, it == order.begin() ? it : it - 1}) {
+      if (c == order.end()) continue;
+      const double gap = std::abs(trajectory.timestamps[*c] - t);
+      if (gap <= best_gap) best_gap = gap, best = *c;
+    }
+    if (best == order.size()) {
+      ThrowInputError(path, fmt::format("no pose within {:g} ms of frame {} (time stamp {:.6f} s)",
+                                        max_difference * 1e3, f, t));
+    }
+    poses.push_back(trajectory.world_from_camera[best]);
+  }
+  return poses;
 }
 
 }  // namespace f2c

@@ -38,4 +38,13 @@ void WriteLogTrajectory(const std::filesystem::path& path, const Trajectory& tra
 // Reads a trajectory file by its ending: .log, .conf (the authors' format) or TUM text.
 Trajectory ReadTrajectoryFile(const std::filesystem::path& path);
 
+// One pose of `trajectory` (read from `path`) per frame time stamp in `frame_times`: the pose
+// whose time stamp is within max_difference seconds of the frame's, or, for a file without
+// time stamps (.log, .conf), the poses in order, exactly one per frame. InputError naming
+// `path` and the first frame without a pose otherwise.
+std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> PosesForFrames(const Trajectory& trajectory,
+                                                                       const std::vector<double>& frame_times,
+                                                                       const std::filesystem::path& path,
+                                                                       double max_difference = 1e-3);
+
 }  // namespace f2c

@@ -79,6 +79,30 @@ TEST(LogTrajectory, MalformedBlocks) {
             path.string() + ":2: pose is not rigid (max |R^T R - I| = 3, det R = 2)");
 }
 
+// Poses for frames: by time stamp (any order in the file, within 1 ms), or in order for a
+// file without time stamps; the first frame without a pose is named.
+TEST(PosesForFrames, ByTimeStampOrInOrder) {
+  const Trajectory t = Example();  // 100, 100.0333, 100.0667 s
+  Trajectory shuffled;
+  for (int i : {2, 0, 1}) shuffled.Add(t.timestamps[i], t.world_from_camera[i]);
+  const fs::path path = "poses.txt";
+  const auto poses = PosesForFrames(shuffled, {100.0 + 2 / 30.0 + 4e-4, 100.0, 100.0 + 1 / 30.0 - 9e-4}, path);
+  ASSERT_EQ(poses.size(), 3u);
+  EXPECT_TRUE(poses[0].isApprox(t.world_from_camera[2]));
+  EXPECT_TRUE(poses[1].isApprox(t.world_from_camera[0]));
+  EXPECT_TRUE(poses[2].isApprox(t.world_from_camera[1]));
+  EXPECT_EQ(testing::InputErrorMessage([&] { PosesForFrames(shuffled, {100.0, 100.05}, path); }),
+            "poses.txt: no pose within 1 ms of frame 1 (time stamp 100.050000 s)");
+
+  Trajectory log = t;
+  log.has_timestamps = false;
+  const auto in_order = PosesForFrames(log, {7.0, 8.0, 9.0}, "t.log");
+  ASSERT_EQ(in_order.size(), 3u);
+  EXPECT_TRUE(in_order[2].isApprox(t.world_from_camera[2]));
+  EXPECT_EQ(testing::InputErrorMessage([&] { PosesForFrames(log, {7.0, 8.0}, "t.log"); }),
+            "t.log: 3 poses for 2 frames (a file without time stamps needs one pose per frame, in order)");
+}
+
 TEST(Conf, RoundTripThroughASequence) {
   const fs::path dir = testing::FreshTempDir("conf_rt");
   fs::create_directories(dir / "depth");

@@ -325,11 +325,16 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       F2C_CHECK(r.parent_a >= 0 && r.parent_a < static_cast<int>(parents.size()) && r.parent_b >= 0 &&
                     r.parent_b < static_cast<int>(parents.size()) && r.parent_a != r.parent_b,
                 "relation parents in range");
-      const double s = std::sqrt(options.weight_relation * r.weight / sum_g);
+      const double w = options.weight_relation * r.weight / sum_g;
+      // Robust: the weight after the loss, so its scale stays an angle.
+      const bool robust = options.relation_loss_scale_deg > 0;
+      const double s = robust ? 1.0 : std::sqrt(w);
       ceres::CostFunction* cost = r.type == RelationType::kOrthogonal
                                       ? OrthogonalCost::Create(s)
                                       : ParallelCost::Create(r.type == RelationType::kParallel ? 1.0 : -1.0, s);
-      pp.AddStructure(kTermG, cost, nullptr, {parents[r.parent_a].normal.data(), parents[r.parent_b].normal.data()});
+      ceres::LossFunction* loss =
+          robust ? pp.Loss(RobustLoss::kCauchy, options.relation_loss_scale_deg * M_PI / 180, w, kTermG) : nullptr;
+      pp.AddStructure(kTermG, cost, loss, {parents[r.parent_a].normal.data(), parents[r.parent_b].normal.data()});
     }
   }
 

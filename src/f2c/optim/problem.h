@@ -59,6 +59,10 @@ struct SolverOptions {
   // the sensor's depth bias puts off its parent pulls less. 1 cm: about how far a
   // structured-light sensor's plane moves between views at 1-3 m.
   double coplanarity_loss_scale = 0.0;
+  // Cauchy scale of E_G's residuals (degrees; 0: least squares). Each relation's residual is
+  // about its angle off the relation (radians), so a relation that is only nearly met (a
+  // corner at 84 degrees) pulls with 1 / (1 + (off / scale)^2) of the force a met one does.
+  double relation_loss_scale_deg = 0.0;
   // E_L and E_I compare rotations as the displacement they cause at this distance from the
   // camera (metres per radian): a Kinect-class sensor sees surfaces at about 1-3 m.
   double rotation_lever_arm = 1.0;
@@ -118,6 +122,8 @@ struct SolverOptions {
     F2C_FIELD(v, coplanarity_loss_scale, "--coplanarity-loss-scale", AtLeast(0), "Cauchy scale of E_H (m; 0: least squares)");
     F2C_FIELD(v, weight_relation, "--weight-relation", AtLeast(0),
               "w_G, E_G's total weight (parallel/antiparallel/orthogonal parents)");
+    F2C_FIELD(v, relation_loss_scale_deg, "--relation-loss-scale", AtLeast(0),
+              "Cauchy scale of E_G on the angle off the relation (deg; 0: least squares)");
     F2C_FIELD(v, plane_presolve_iterations, "--plane-presolve-iterations", AtLeast(0),
               "one-step solves: iterations on the planes alone before the joint step (0: off)");
   }
