@@ -101,7 +101,18 @@ int RunRegister(const RegisterArgs& args) {
   if (!args.initial_trajectory.empty() && args.run_refinement) {
     std::vector<double> times;
     for (const RgbdFrame& f : seq.frames) times.push_back(f.timestamp);
-    initial_poses = PosesForFrames(ReadTrajectoryFile(args.initial_trajectory), times, args.initial_trajectory);
+    const fs::path source = args.initial_trajectory;
+    Trajectory given;
+    if (fs::is_directory(source)) {  // a dataset folder: its ground truth
+      IoOptions io = args.io;
+      io.check_files = false;
+      const RgbdSequence other = ReadSequence(source, io);
+      if (!other.ground_truth) ThrowInputError(source, "dataset has no ground-truth trajectory");
+      given = *other.ground_truth;
+    } else {
+      given = ReadTrajectoryFile(source);
+    }
+    initial_poses = PosesForFrames(given, times, source);
   }
   const OutputFolder output_folder(out);  // a run stopped by an error leaves no empty folders
   spdlog::info("{}: {} layout, {} frames", args.input, LayoutName(seq.layout), seq.frames.size());
@@ -297,7 +308,8 @@ Subcommand AddRegisterCommand(CLI::App* app) {
   cmd->add_option("--write-config", *write_config, "write this run's options (all of them) to FILE as TOML, for --config")
       ->group("Output");
   cmd->add_option("--initial-trajectory", args->initial_trajectory,
-                  "refine from these poses (TUM, .log or .conf; one per frame, by time stamp) instead of T0")
+                  "refine from these poses instead of T0: a trajectory (TUM by time stamp, .log or .conf in order), or a dataset "
+                  "folder's ground truth")
       ->type_name("FILE")
       ->group("Refinement: windows (paper 4.2)");
   cmd->add_flag("--save-iterations", args->save_iterations, "write each refinement iteration's trajectory to OUTDIR/iterations/");

@@ -80,20 +80,22 @@ TEST(Cli, BadRefinementOptionFailsBeforeAnyWork) {
             "error: --windows: unknown value 'time' (frames, path)\n");
 }
 
-// A start trajectory that misses a frame is refused before any work, naming the frame.
+// A start trajectory that ends before the last frame is refused before any work, naming the
+// frame.
 TEST(Cli, InitialTrajectoryWithoutAFrameFailsBeforeAnyWork) {
   const fs::path dir = SyntheticTum("cli_initial_bad", 3);
   Trajectory truth = ReadTumTrajectory(dir / "groundtruth.txt");
   Trajectory two;
-  for (size_t i : {0, 2}) two.Add(truth.timestamps[i], truth.world_from_camera[i]);
+  for (size_t i : {0, 1}) two.Add(truth.timestamps[i], truth.world_from_camera[i]);
   const fs::path start = testing::FreshTempDir("cli_initial_bad_start") / "start.txt";
   WriteTumTrajectory(start, two);
   const fs::path out = testing::FreshTempDir("cli_initial_bad_out") / "run";
   const Result r = RunCli("register " + dir.string() + " --intrinsics primesense -q --initial-trajectory " +
                           start.string() + " -o " + out.string());
   EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.output, fmt::format("error: {}: no pose within 1 ms of frame 1 (time stamp {:.6f} s)\n", start.string(),
-                                  truth.timestamps[1]));
+  EXPECT_EQ(r.output, fmt::format("error: {}: no pose within 1 ms of frame 2 (time stamp {:.6f} s), nor two within "
+                                  "0.25 s around it\n",
+                                  start.string(), truth.timestamps[2]));
   EXPECT_FALSE(fs::exists(out));
 }
 

@@ -103,7 +103,7 @@ Trajectory ReadTrajectoryFile(const std::filesystem::path& path) {
 std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> PosesForFrames(const Trajectory& trajectory,
                                                                        const std::vector<double>& frame_times,
                                                                        const std::filesystem::path& path,
-                                                                       double max_difference) {
+                                                                       double max_difference, double max_span) {
   const size_t n = frame_times.size();
   if (!trajectory.has_timestamps) {
     if (trajectory.size() != n) {
@@ -113,29 +113,39 @@ std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> PosesForFrames(const Tra
     }
     return trajectory.world_from_camera;
   }
-  // Time stamps in any order: the nearest by binary search over the sorted ones.
+  // Time stamps in any order: sorted once, then a binary search per frame.
   std::vector<size_t> order(trajectory.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(),
-            [&](size_t a, size_t b) { return trajectory.timestamps[a] < trajectory.timestamps[b]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return trajectory.timestamps[a] < trajectory.timestamps[b]; });
   std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> poses;
   poses.reserve(n);
   for (size_t f = 0; f < n; ++f) {
     const double t = frame_times[f];
-    auto it = std::lower_bound(order.begin(), order.end(), t,
-                               [&](size_t i, double value) { return trajectory.timestamps[i] < value; });
-    size_t best = order.size();
-    double best_gap = max_difference;
-    for (auto c : {it, it == order.begin() ? it : it - 1}) {
-      if (c == order.end()) continue;
-      const double gap = std::abs(trajectory.timestamps[*c] - t);
-      if (gap <= best_gap) best_gap = gap, best = *c;
+    const auto after = std::lower_bound(order.begin(), order.end(), t,
+                                        [&](size_t i, double value) { return trajectory.timestamps[i] < value; });
+    const bool has_after = after != order.end(), has_before = after != order.begin();
+    const double t_after = has_after ? trajectory.timestamps[*after] : 0;
+    const double t_before = has_before ? trajectory.timestamps[*(after - 1)] : 0;
+    if (has_after && t_after - t <= max_difference && (!has_before || t_after - t <= t - t_before)) {
+      poses.push_back(trajectory.world_from_camera[*after]);
+    } else if (has_before && t - t_before <= max_difference) {
+      poses.push_back(trajectory.world_from_camera[*(after - 1)]);
+    } else if (has_before && has_after && t_after - t_before <= max_span) {
+      // Between two poses (a motion-capture trajectory at its own rate): translation
+      // linearly, rotation along the shortest arc.
+      const Rigid3d& a = trajectory.world_from_camera[*(after - 1)];
+      const Rigid3d& b = trajectory.world_from_camera[*after];
+      const double u = (t - t_before) / (t_after - t_before);
+      Rigid3d pose = Rigid3d::Identity();
+      pose.linear() = Eigen::Quaterniond(a.linear()).slerp(u, Eigen::Quaterniond(b.linear())).toRotationMatrix();
+      pose.translation() = (1 - u) * a.translation() + u * b.translation();
+      poses.push_back(pose);
+    } else {
+      ThrowInputError(path, fmt::format("no pose within {:g} ms of frame {} (time stamp {:.6f} s), nor two within {:g} "
+                                        "s around it",
+                                        max_difference * 1e3, f, t, max_span));
     }
-    if (best == order.size()) {
-      ThrowInputError(path, fmt::format("no pose within {:g} ms of frame {} (time stamp {:.6f} s)",
-                                        max_difference * 1e3, f, t));
-    }
-    poses.push_back(trajectory.world_from_camera[best]);
   }
   return poses;
 }

@@ -39,12 +39,14 @@ void WriteLogTrajectory(const std::filesystem::path& path, const Trajectory& tra
 Trajectory ReadTrajectoryFile(const std::filesystem::path& path);
 
 // One pose of `trajectory` (read from `path`) per frame time stamp in `frame_times`: the pose
-// whose time stamp is within max_difference seconds of the frame's, or, for a file without
-// time stamps (.log, .conf), the poses in order, exactly one per frame. InputError naming
-// `path` and the first frame without a pose otherwise.
+// within max_difference seconds of the frame's time stamp, or else one interpolated between
+// the two around it when they are at most max_span seconds apart (a ground truth recorded at
+// its own rate); for a file without time stamps (.log, .conf), the poses in order, exactly
+// one per frame. InputError naming `path` and the first frame without a pose otherwise.
 std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> PosesForFrames(const Trajectory& trajectory,
                                                                        const std::vector<double>& frame_times,
                                                                        const std::filesystem::path& path,
-                                                                       double max_difference = 1e-3);
+                                                                       double max_difference = 1e-3,
+                                                                       double max_span = 0.25);
 
 }  // namespace f2c

@@ -79,8 +79,9 @@ TEST(LogTrajectory, MalformedBlocks) {
             path.string() + ":2: pose is not rigid (max |R^T R - I| = 3, det R = 2)");
 }
 
-// Poses for frames: by time stamp (any order in the file, within 1 ms), or in order for a
-// file without time stamps; the first frame without a pose is named.
+// Poses for frames: by time stamp (any order in the file, within 1 ms, else interpolated
+// between two close poses), or in order for a file without time stamps; the first frame
+// without a pose is named.
 TEST(PosesForFrames, ByTimeStampOrInOrder) {
   const Trajectory t = Example();  // 100, 100.0333, 100.0667 s
   Trajectory shuffled;
@@ -91,8 +92,16 @@ TEST(PosesForFrames, ByTimeStampOrInOrder) {
   EXPECT_TRUE(poses[0].isApprox(t.world_from_camera[2]));
   EXPECT_TRUE(poses[1].isApprox(t.world_from_camera[0]));
   EXPECT_TRUE(poses[2].isApprox(t.world_from_camera[1]));
-  EXPECT_EQ(testing::InputErrorMessage([&] { PosesForFrames(shuffled, {100.0, 100.05}, path); }),
-            "poses.txt: no pose within 1 ms of frame 1 (time stamp 100.050000 s)");
+  // Between two poses: interpolated, halfway at the midpoint (Example turns 0.3 rad and
+  // moves (1, -0.5, 0) per pose about one axis).
+  const auto mid = PosesForFrames(shuffled, {100.05}, path);
+  EXPECT_LT((mid[0].translation() - Eigen::Vector3d(1.5, -0.75, 0.25)).norm(), 1e-9);
+  EXPECT_TRUE(mid[0].linear().isApprox(
+      Eigen::AngleAxisd(0.45, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix(), 1e-9));
+  EXPECT_EQ(testing::InputErrorMessage([&] { PosesForFrames(shuffled, {100.0, 100.2}, path); }),
+            "poses.txt: no pose within 1 ms of frame 1 (time stamp 100.200000 s), nor two within 0.25 s around it");
+  EXPECT_EQ(testing::InputErrorMessage([&] { PosesForFrames(shuffled, {100.05}, path, 1e-3, 0.02); }),
+            "poses.txt: no pose within 1 ms of frame 0 (time stamp 100.050000 s), nor two within 0.02 s around it");
 
   Trajectory log = t;
   log.has_timestamps = false;
