@@ -236,6 +236,19 @@ ProxyHierarchy BuildProxyHierarchy(const WindowSchedule& schedule, int iteration
   return h;
 }
 
+double ChildNormalSpreadDeg(const StructureConstraints& s, const PoseVector& poses) {
+  double sum = 0, weight = 0;
+  for (const CoplanarLink& l : s.links) {
+    const ChildProxy& c = s.children[l.child];
+    const Eigen::Vector3d n = poses[c.frame].rotation * c.normal.cast<double>();
+    const double cosine = std::clamp(n.normalized().dot(s.parents[l.parent].normal.normalized()), -1.0, 1.0);
+    const double angle = std::acos(cosine);
+    sum += l.weight * angle * angle;
+    weight += l.weight;
+  }
+  return weight > 0 ? std::sqrt(sum / weight) * 180 / M_PI : 0.0;
+}
+
 nlohmann::json ToJson(const HierarchyStats& s) {
   return {{"children", s.children},
           {"parents", s.parents},

@@ -97,6 +97,11 @@ struct ProxyHierarchy {
 ProxyHierarchy BuildProxyHierarchy(const WindowSchedule& schedule, int iteration, const FeatureIndex& index,
                                    const PoseVector& poses, const HierarchyOptions& options);
 
+// How far the children's normals, placed by `poses`, are from their parents' (degrees): the
+// RMS over the links, each weighted by its child's inliers; 0 without links. In short windows
+// the poses barely drift, so this is about how well views of one surface agree on its tilt.
+double ChildNormalSpreadDeg(const StructureConstraints& structure, const PoseVector& poses);
+
 nlohmann::json ToJson(const HierarchyStats& stats);
 
 }  // namespace f2c

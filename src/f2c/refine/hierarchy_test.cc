@@ -151,5 +151,32 @@ TEST(BuildProxyHierarchy, OneParentPerWindowAndALinkPerChildAndWindow) {
   EXPECT_EQ(full.stats.links, 4);
 }
 
+
+// The children's normal spread: the inlier-weighted RMS angle to their parents, each child's
+// normal turned into the world by its frame's pose. Child 0 (frame 0, identity) is 1 deg off
+// the parent's z, child 1 (frame 1, turned 90 deg about z) 2 deg off, with 3 times the
+// weight: sqrt((1 + 3 * 4) / 4) deg.
+TEST(ChildNormalSpread, WeightedRmsAngleUnderThePoses) {
+  const double deg = M_PI / 180;
+  PoseVector poses(2);
+  poses[1].rotation = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ());
+  StructureConstraints s;
+  s.parents.push_back({Eigen::Vector3d::UnitZ(), 0.0, Eigen::Vector3d::Zero()});
+  ChildProxy a, b;
+  a.frame = 0;
+  a.normal = Eigen::Vector3f(std::sin(1 * deg), 0, std::cos(1 * deg));
+  b.frame = 1;
+  // In the world 2 deg off z towards x: in frame 1's camera (turned 90 deg), towards -y.
+  b.normal = Eigen::Vector3f(0, -std::sin(2 * deg), std::cos(2 * deg));
+  s.children = {a, b};
+  EXPECT_EQ(ChildNormalSpreadDeg(s, poses), 0.0) << "no links";
+  s.links.push_back({0, 0, Eigen::Vector3d::Zero(), 1.0f});
+  s.links.push_back({1, 0, Eigen::Vector3d::Zero(), 3.0f});
+  EXPECT_NEAR(ChildNormalSpreadDeg(s, poses), std::sqrt(13.0 / 4), 1e-5);
+  // Frame 1 turned 2 deg more about y (its child's tilt towards x grows): 4 deg off.
+  poses[1].rotation = Eigen::AngleAxisd(2 * deg, Eigen::Vector3d::UnitY()) * poses[1].rotation;
+  EXPECT_NEAR(ChildNormalSpreadDeg(s, poses), std::sqrt((1 + 3 * 16.0) / 4), 1e-4);
+}
+
 }  // namespace
 }  // namespace f2c

@@ -96,6 +96,8 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     while (first_structure < schedule.iterations() && !schedule.Full(first_structure)) ++first_structure;
   }
 
+  double coplanarity_factor = 1;  // from the measured child normal spread, once
+
   // The schedule's iterations, then added polish iterations while the poses still move.
   auto more = [&](int it) {
     if (it < schedule.iterations()) return true;
@@ -155,6 +157,11 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
       ProxyHierarchy hierarchy = BuildProxyHierarchy(schedule, it, index, result.poses, options.hierarchy);
       hierarchy.structure.relations = DetectRelations(hierarchy, options.relations, &s.relations);
       s.hierarchy = hierarchy.stats;
+      s.child_normal_spread_deg = ChildNormalSpreadDeg(hierarchy.structure, result.poses);
+      if (it == first_structure && options.coplanarity_noise_reference_deg > 0 && s.child_normal_spread_deg > 0) {
+        const double ratio = options.coplanarity_noise_reference_deg / s.child_normal_spread_deg;
+        coplanarity_factor = std::min(1.0, ratio * ratio);
+      }
       constraints.structure = std::move(hierarchy.structure);
     }
     s.seconds_structure = stage.Seconds();
@@ -167,7 +174,9 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     };
     solver.weight_correspondence = scheduled(options.weight_correspondence_initial, options.solver.weight_correspondence);
     solver.weight_proxy = scheduled(options.weight_proxy_initial, options.solver.weight_proxy);
-    solver.weight_coplanarity = scheduled(options.weight_coplanarity_initial, options.solver.weight_coplanarity);
+    solver.weight_coplanarity =
+        coplanarity_factor * scheduled(options.weight_coplanarity_initial, options.solver.weight_coplanarity);
+    s.coplanarity_noise_factor = coplanarity_factor;
     solver.weight_relation = scheduled(options.weight_relation_initial, options.solver.weight_relation);
     s.weight_correspondence = solver.weight_correspondence;
     s.weight_proxy = solver.weight_proxy;
@@ -214,6 +223,8 @@ nlohmann::json ToJson(const IterationSummary& s) {
                        {"E_H", s.weight_coplanarity},
                        {"E_G", s.weight_relation}}},
           {"hierarchy", ToJson(s.hierarchy)},
+          {"child_normal_spread_deg", s.child_normal_spread_deg},
+          {"coplanarity_noise_factor", s.coplanarity_noise_factor},
           {"relations", ToJson(s.relations)},
           {"loop_presolve", s.presolve.termination.empty() ? nlohmann::json(nullptr) : ToJson(s.presolve)},
           {"solve", ToJson(s.solve)},

@@ -59,6 +59,13 @@ struct RefineOptions {
   double weight_proxy_initial = -1;
   double weight_coplanarity_initial = -1;
   double weight_relation_initial = -1;
+  // E_H's noise, measured: in the first iteration with the structure, the RMS angle between
+  // the children's normals and their parents' (ChildNormalSpreadDeg) says how well this
+  // sensor's views of one surface agree on its tilt, and E_H's weight is multiplied by
+  // min(1, (this reference / that angle)^2) for the rest of the run (0: off). w_H was chosen
+  // where views agree to this angle (the simulated Kinect noise); a real sensor's depth bias
+  // makes them disagree more, and E_H then pulls the poses towards that bias.
+  double coplanarity_noise_reference_deg = 0.25;
 
   template <class V>
   void Fields(V& v) {
@@ -83,6 +90,8 @@ struct RefineOptions {
               "w_H in the first iteration; < 0: constant");
     F2C_FIELD(v, weight_relation_initial, "--weight-relation-initial", AnyFinite(),
               "w_G in the first iteration; < 0: constant");
+    F2C_FIELD(v, coplanarity_noise_reference_deg, "--coplanarity-noise-reference", AtLeast(0),
+              "w_H times min(1, (this / the children's normal spread in the first structure iteration)^2) (deg; 0: off)");
     F2C_NESTED(v, hierarchy);
     F2C_NESTED(v, relations);
     F2C_NESTED(v, loops);
@@ -101,6 +110,8 @@ struct IterationSummary {
   int local_constraints = 0;
   double weight_correspondence = 0;
   double weight_proxy = 0, weight_coplanarity = 0, weight_relation = 0;
+  double child_normal_spread_deg = 0;  // with the structure: ChildNormalSpreadDeg at the start
+  double coplanarity_noise_factor = 1;  // w_H's factor from the measured spread
   HierarchyStats hierarchy;
   RelationStats relations;
   SolveSummary presolve;  // when new SIFT loops were accepted (termination empty otherwise)
