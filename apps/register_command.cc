@@ -210,6 +210,8 @@ int RunRegister(const RegisterArgs& args) {
                     {"peak_memory_bytes_before", peak_before_refine},
                     {"peak_memory_bytes_after", PeakResidentBytes()},
                     {"initial", args.initial_trajectory.empty() ? "T0" : args.initial_trajectory},
+                    {"initial_child_normal_spread_deg", refined.initial_child_normal_spread_deg},
+                    {"coplanarity_noise_factor", refined.coplanarity_noise_factor},
                     {"iterations", iterations}};
     spdlog::info("refinement: {} iterations in {:.1f} s ({:.1f} ms per frame)", refined.iterations.size(),
                  refined.seconds + index_s, 1000.0 * (refined.seconds + index_s) / seq.frames.size());

@@ -304,21 +304,28 @@ TEST(Cli, StructureAddsTheHierarchyAndItsTermsToEachIteration) {
   EXPECT_GT(last["hierarchy"]["parents"].get<int>(), 0);
   EXPECT_TRUE(last["solve"]["cost_after"].contains("E_P"));
   EXPECT_TRUE(last["solve"]["cost_after"].contains("E_H"));
-  // E_H's weight follows the children's normal spread measured in the first iteration:
-  // times min(1, (reference / spread)^2), here with a reference below the spread.
+  // E_H's weight follows the children's normal spread, measured once at the start in windows
+  // of l_0 frames: times min(1, (reference / spread)^2), here with a reference below the
+  // spread. The measurement does not depend on the schedule: the same spread when the
+  // structure starts later or every window holds the whole scan.
   ASSERT_EQ(RunCli(base + "--structure --coplanarity-noise-reference 0.001 -o " + (out / "noisy").string()).code, 0);
   const nlohmann::json noisy = nlohmann::json::parse(ReadFileToString(out / "noisy" / "run.json"));
-  const nlohmann::json& iterations = noisy["stages"]["refine"]["iterations"];
-  const double spread = iterations[0]["child_normal_spread_deg"].get<double>();
+  const nlohmann::json& refine = noisy["stages"]["refine"];
+  const double spread = refine["initial_child_normal_spread_deg"].get<double>();
   ASSERT_GT(spread, 0.001);
   const double factor = std::pow(0.001 / spread, 2);
-  for (const nlohmann::json& it : iterations) {
+  EXPECT_NEAR(refine["coplanarity_noise_factor"].get<double>(), factor, 1e-12 * factor);
+  for (const nlohmann::json& it : refine["iterations"]) {
     EXPECT_NEAR(it["coplanarity_noise_factor"].get<double>(), factor, 1e-12 * factor);
     EXPECT_NEAR(it["weights"]["E_H"].get<double>(), 1000 * factor, 1e-9 * factor);
   }
-  const nlohmann::json& first_on = on["stages"]["refine"]["iterations"][0];
-  EXPECT_NEAR(first_on["coplanarity_noise_factor"].get<double>(),
-              std::min(1.0, std::pow(0.25 / first_on["child_normal_spread_deg"].get<double>(), 2)), 1e-12);
+  EXPECT_NEAR(on["stages"]["refine"]["coplanarity_noise_factor"].get<double>(),
+              std::min(1.0, std::pow(0.25 / on["stages"]["refine"]["initial_child_normal_spread_deg"].get<double>(), 2)),
+              1e-12);
+  ASSERT_EQ(RunCli(base + "--structure --structure-from 2 --no-fine-to-coarse -o " + (out / "late").string()).code, 0);
+  const nlohmann::json late = nlohmann::json::parse(ReadFileToString(out / "late" / "run.json"));
+  EXPECT_EQ(late["stages"]["refine"]["initial_child_normal_spread_deg"].get<double>(),
+            on["stages"]["refine"]["initial_child_normal_spread_deg"].get<double>());
   const nlohmann::json& plain = off["stages"]["refine"]["iterations"].back();
   EXPECT_EQ(plain["hierarchy"]["children"].get<int>(), 0);
   EXPECT_FALSE(plain["solve"]["cost_after"].contains("E_P"));

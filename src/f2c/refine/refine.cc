@@ -96,7 +96,24 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     while (first_structure < schedule.iterations() && !schedule.Full(first_structure)) ++first_structure;
   }
 
-  double coplanarity_factor = 1;  // from the measured child normal spread, once
+  // E_H's weight from how well the views agree on their planes' tilt: measured once, from
+  // the initial poses, in windows of l_0 consecutive frames (where they barely drift),
+  // whatever the schedule (--structure-from, --no-fine-to-coarse).
+  double coplanarity_factor = 1, initial_spread = 0;
+  if (options.structure && options.coplanarity_noise_reference_deg > 0) {
+    WindowOptions short_windows;
+    short_windows.initial_frames = options.windows.initial_frames;
+    const WindowSchedule measure(short_windows, std::vector<double>(n, 0.0));
+    initial_spread =
+        ChildNormalSpreadDeg(BuildProxyHierarchy(measure, 0, index, result.poses, options.hierarchy).structure,
+                             result.poses);
+    if (initial_spread > 0) {
+      const double ratio = options.coplanarity_noise_reference_deg / initial_spread;
+      coplanarity_factor = std::min(1.0, ratio * ratio);
+    }
+  }
+  result.initial_child_normal_spread_deg = initial_spread;
+  result.coplanarity_noise_factor = coplanarity_factor;
 
   // The schedule's iterations, then added polish iterations while the poses still move.
   auto more = [&](int it) {
@@ -158,10 +175,6 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
       hierarchy.structure.relations = DetectRelations(hierarchy, options.relations, &s.relations);
       s.hierarchy = hierarchy.stats;
       s.child_normal_spread_deg = ChildNormalSpreadDeg(hierarchy.structure, result.poses);
-      if (it == first_structure && options.coplanarity_noise_reference_deg > 0 && s.child_normal_spread_deg > 0) {
-        const double ratio = options.coplanarity_noise_reference_deg / s.child_normal_spread_deg;
-        coplanarity_factor = std::min(1.0, ratio * ratio);
-      }
       constraints.structure = std::move(hierarchy.structure);
     }
     s.seconds_structure = stage.Seconds();

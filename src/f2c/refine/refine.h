@@ -44,8 +44,9 @@ struct RefineOptions {
   SolverOptions solver;
   // The planar structural model (E_P, E_H, E_G), register --structure. Off by default for
   // now: measured (BENCHMARKS.md), it lowers rotation drift and error on simulated multi-room
-  // walks but costs accuracy on TUM fr1/xyz (0.0127 -> 0.0151 m ATE: any E_H coupling
-  // between the views' planes does, its normal or its offset part alone too) and time.
+  // walks and helps 7-Scenes redkitchen a little, but costs accuracy on TUM fr1/xyz
+  // (0.0126 -> 0.0140 m ATE: the sensor's views of one plane disagree on its tilt, and E_H
+  // pulls the poses to make them agree) and time.
   bool structure = false;
   HierarchyOptions hierarchy;
   RelationOptions relations;
@@ -59,9 +60,10 @@ struct RefineOptions {
   double weight_proxy_initial = -1;
   double weight_coplanarity_initial = -1;
   double weight_relation_initial = -1;
-  // E_H's noise, measured: in the first iteration with the structure, the RMS angle between
-  // the children's normals and their parents' (ChildNormalSpreadDeg) says how well this
-  // sensor's views of one surface agree on its tilt, and E_H's weight is multiplied by
+  // E_H's noise, measured: before the first iteration, in windows of l_0 frames under the
+  // initial poses, the RMS angle between the children's normals and their parents'
+  // (ChildNormalSpreadDeg) says how well this sensor's views of one surface agree on its
+  // tilt, and E_H's weight is multiplied by
   // min(1, (this reference / that angle)^2) for the rest of the run (0: off). w_H was chosen
   // where views agree to this angle (the simulated Kinect noise); a real sensor's depth bias
   // makes them disagree more, and E_H then pulls the poses towards that bias.
@@ -91,7 +93,8 @@ struct RefineOptions {
     F2C_FIELD(v, weight_relation_initial, "--weight-relation-initial", AnyFinite(),
               "w_G in the first iteration; < 0: constant");
     F2C_FIELD(v, coplanarity_noise_reference_deg, "--coplanarity-noise-reference", AtLeast(0),
-              "w_H times min(1, (this / the children's normal spread in the first structure iteration)^2) (deg; 0: off)");
+              "w_H times min(1, (this / the children's normal spread in windows of l_0 frames at the start)^2) (deg; 0: "
+              "off)");
     F2C_NESTED(v, hierarchy);
     F2C_NESTED(v, relations);
     F2C_NESTED(v, loops);
@@ -110,7 +113,7 @@ struct IterationSummary {
   int local_constraints = 0;
   double weight_correspondence = 0;
   double weight_proxy = 0, weight_coplanarity = 0, weight_relation = 0;
-  double child_normal_spread_deg = 0;  // with the structure: ChildNormalSpreadDeg at the start
+  double child_normal_spread_deg = 0;  // with the structure: ChildNormalSpreadDeg, this iteration's windows
   double coplanarity_noise_factor = 1;  // w_H's factor from the measured spread
   HierarchyStats hierarchy;
   RelationStats relations;
@@ -128,6 +131,10 @@ struct RefineResult {
   PoseVector poses;  // world_from_camera per frame
   std::vector<IterationSummary> iterations;
   std::vector<PoseVector> iteration_poses;  // after each iteration, when asked
+  // With the structure and a noise reference: the children's normal spread in windows of l_0
+  // frames under the initial poses (degrees), and the factor it gave w_H.
+  double initial_child_normal_spread_deg = 0;
+  double coplanarity_noise_factor = 1;
   double seconds = 0;
 };
 
