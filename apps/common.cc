@@ -6,6 +6,8 @@
 #include <cmath>
 #include <opencv2/core/version.hpp>
 
+#include "f2c/util/error.h"
+
 namespace f2c::app {
 using nlohmann::json;
 
@@ -28,6 +30,16 @@ json ToJson(const FusionTimings& t, const PlyPoints& mesh) {
           {"volume_bytes", t.volume_bytes},
           {"vertices", mesh.positions.size()},
           {"triangles", mesh.faces.size()}};
+}
+
+Trajectory LoadGroundTruth(const std::filesystem::path& path, IoOptions io, std::optional<RgbdSequence>* dataset) {
+  if (std::filesystem::is_directory(path) || path.extension() == ".conf") {
+    io.check_files = false;
+    *dataset = ReadSequence(path, io);
+    if (!(*dataset)->ground_truth) ThrowInputError(path, "dataset has no ground-truth trajectory");
+    return *(*dataset)->ground_truth;
+  }
+  return ReadTrajectoryFile(path);
 }
 
 }  // namespace f2c::app

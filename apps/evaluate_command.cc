@@ -26,18 +26,6 @@ using nlohmann::json;
 
 namespace {
 
-// Ground truth from a trajectory file or a dataset folder (then `*dataset` holds it: its
-// frame time stamps place estimates that carry frame ids, and its frames feed the report).
-Trajectory LoadGroundTruth(const fs::path& path, IoOptions io, std::optional<RgbdSequence>* dataset) {
-  if (fs::is_directory(path) || path.extension() == ".conf") {
-    io.check_files = false;
-    *dataset = ReadSequence(path, io);
-    if (!(*dataset)->ground_truth) ThrowInputError(path, "dataset has no ground-truth trajectory");
-    return *(*dataset)->ground_truth;
-  }
-  return ReadTrajectoryFile(path);
-}
-
 // A trajectory file; .log / .conf files carry frame ids, placed at the dataset's frame times.
 Trajectory LoadEstimate(const fs::path& path, const Trajectory& gt, const std::vector<double>& frame_timestamps) {
   Trajectory est = ReadTrajectoryFile(path);

@@ -102,16 +102,10 @@ int RunRegister(const RegisterArgs& args) {
     std::vector<double> times;
     for (const RgbdFrame& f : seq.frames) times.push_back(f.timestamp);
     const fs::path source = args.initial_trajectory;
-    Trajectory given;
-    if (fs::is_directory(source)) {  // a dataset folder: its ground truth
-      IoOptions io = args.io;
-      io.check_files = false;
-      const RgbdSequence other = ReadSequence(source, io);
-      if (!other.ground_truth) ThrowInputError(source, "dataset has no ground-truth trajectory");
-      given = *other.ground_truth;
-    } else {
-      given = ReadTrajectoryFile(source);
-    }
+    std::optional<RgbdSequence> dataset;
+    // A dataset folder gives its ground truth; a file (.conf too) is read as a trajectory.
+    const Trajectory given = fs::is_directory(source) ? LoadGroundTruth(source, args.io, &dataset)
+                                                      : ReadTrajectoryFile(source);
     initial_poses = PosesForFrames(given, times, source);
   }
   const OutputFolder output_folder(out);  // a run stopped by an error leaves no empty folders

@@ -97,6 +97,14 @@ TEST(Cli, InitialTrajectoryWithoutAFrameFailsBeforeAnyWork) {
                                   "0.25 s around it\n",
                                   start.string(), truth.timestamps[2]));
   EXPECT_FALSE(fs::exists(out));
+  // A dataset folder as the start needs a ground truth.
+  const fs::path bare = SyntheticTum("cli_initial_bare", 3);
+  fs::remove(bare / "groundtruth.txt");
+  const Result none = RunCli("register " + dir.string() + " --intrinsics primesense -q --initial-trajectory " +
+                             bare.string() + " -o " + out.string());
+  EXPECT_EQ(none.code, 1);
+  EXPECT_EQ(none.output, "error: " + bare.string() + ": dataset has no ground-truth trajectory\n");
+  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(Cli, CorruptFrameExitsOneNamingTheFile) {

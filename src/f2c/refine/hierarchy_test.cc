@@ -151,7 +151,6 @@ TEST(BuildProxyHierarchy, OneParentPerWindowAndALinkPerChildAndWindow) {
   EXPECT_EQ(full.stats.links, 4);
 }
 
-
 // The children's normal spread: the inlier-weighted RMS angle to their parents, each child's
 // normal turned into the world by its frame's pose. Child 0 (frame 0, identity) is 1 deg off
 // the parent's z, child 1 (frame 1, turned 90 deg about z) 2 deg off, with 3 times the
