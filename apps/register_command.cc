@@ -332,6 +332,10 @@ Subcommand AddRegisterCommand(CLI::App* app) {
       spdlog::info("options written to {}", *write_config);
     }
     args->run_refinement = flags->stop_after == "refine" && !flags->no_features;
+    if (!args->initial_trajectory.empty() && !args->run_refinement) {
+      throw InputError(std::string("--initial-trajectory: only the refinement starts from it, and ") +
+                       (flags->no_features ? "--no-features" : "--stop-after odometry") + " skips the refinement");
+    }
     // Every stage's options, once, before the input is read or minutes of odometry run.
     args->io.Check();
     args->odometry.Check();

@@ -78,6 +78,8 @@ TEST(Cli, BadRefinementOptionFailsBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(out));
   EXPECT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --windows time -o " + out.string()).output,
             "error: --windows: unknown value 'time' (frames, path)\n");
+  EXPECT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --plane-normals mean -o " + out.string()).output,
+            "error: --plane-normals: unknown value 'mean' (cell, proxy, snap)\n");
 }
 
 // A start trajectory that ends before the last frame is refused before any work, naming the
@@ -104,6 +106,18 @@ TEST(Cli, InitialTrajectoryWithoutAFrameFailsBeforeAnyWork) {
                              bare.string() + " -o " + out.string());
   EXPECT_EQ(none.code, 1);
   EXPECT_EQ(none.output, "error: " + bare.string() + ": dataset has no ground-truth trajectory\n");
+  EXPECT_FALSE(fs::exists(out));
+  // Without the refinement nothing would start from it: refused, not ignored.
+  const Result odometry = RunCli("register " + dir.string() + " --intrinsics primesense -q --stop-after odometry " +
+                                 "--initial-trajectory " + dir.string() + " -o " + out.string());
+  EXPECT_EQ(odometry.code, 1);
+  EXPECT_EQ(odometry.output,
+            "error: --initial-trajectory: only the refinement starts from it, and --stop-after odometry skips the "
+            "refinement\n");
+  EXPECT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --no-features --initial-trajectory " +
+                   dir.string() + " -o " + out.string())
+                .output,
+            "error: --initial-trajectory: only the refinement starts from it, and --no-features skips the refinement\n");
   EXPECT_FALSE(fs::exists(out));
 }
 

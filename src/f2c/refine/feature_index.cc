@@ -74,7 +74,13 @@ std::unique_ptr<FrameIndex> BuildFrameIndex(const FrameFeatures& features, const
     const int take = std::min(n, caps[f]);
     // An even subsample in extraction order (the extraction orders features spatially).
     for (int j = 0; j < take; ++j) {
-      const Feature& feature = features.features[members[f][static_cast<int64_t>(j) * n / take]];
+      Feature feature = features.features[members[f][static_cast<int64_t>(j) * n / take]];
+      if (feature.type == FeatureType::kPlane && options.plane_normals != PlaneNormals::kCell && feature.proxy >= 0 &&
+          feature.proxy < static_cast<int>(features.proxies.size())) {
+        const PlanarProxy& proxy = features.proxies[feature.proxy];
+        feature.direction = proxy.normal;
+        if (options.plane_normals == PlaneNormals::kSnap) feature.position -= proxy.Distance(feature.position) * proxy.normal;
+      }
       frame->families[f].Add(feature);
       frame->box.extend(feature.position);
       frame->centroid += feature.position;
