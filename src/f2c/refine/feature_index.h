@@ -45,7 +45,9 @@ struct FeatureIndexOptions {
   // A plane feature's normal: "cell", its own grid cell's fit (the paper); "proxy", the
   // normal of the per-image proxy it lies on, fit to all the proxy's cells, so E_C's planes
   // tilt with the depth noise of one cell no more; "snap" also moves its point onto the
-  // proxy's plane.
+  // proxy's plane. Measured (BENCHMARKS.md, eighth stop): snap lowers the correspondence
+  // error on simulated walks by up to half, but costs the real sequences, whose planes a
+  // Kinect bends by millimetres; so the cell's own fit stays the default.
   PlaneNormals plane_normals = PlaneNormals::kCell;
 
   template <class V>
