@@ -36,25 +36,38 @@ Rigid3d Pose3(double yaw_deg, const Eigen::Vector3d& t) {
   return p;
 }
 
+// Keyframes 0 and 40 of a 41-frame sequence see the same textured corner of a room; the
+// frames between them have no features.
+struct CornerLoop {
+  static constexpr int n = 41;
+  Rigid3d truth_a = Pose3(0, {0, 0, -0.6});
+  Rigid3d truth_b = Pose3(12, {0.25, 0.05, -0.45});
+  Rigid3d drifted_b = Pose3(0, {0.5, 0.1, -0.4});
+  View a = Look(truth_a), b = Look(truth_b);
+  FeatureIndex index;
+  CornerLoop() {
+    for (int k = 0; k < n; ++k) {
+      index.frames.push_back(BuildFrameIndex(k == 0 ? a.features : k == 40 ? b.features : FrameFeatures(), {}));
+    }
+  }
+  std::vector<Keyframe> Keyframes() const { return {MakeKeyframe(0, a.sift, 300), MakeKeyframe(40, b.sift, 300)}; }
+};
+
 // Keyframes 0 and 40 see the same textured corner of a room. Their current poses are 30 cm
 // and 12 degrees off (drift); when they first share a window (l = 64, iteration 3) SIFT
 // finds their true relative pose, and their matched points agree under the true poses.
 TEST(SiftLoopMatcher, MatchesALoopWhenItsKeyframesFirstShareAWindow) {
-  const int n = 41;
-  const Rigid3d truth_a = Pose3(0, {0, 0, -0.6});
-  const Rigid3d truth_b = Pose3(12, {0.25, 0.05, -0.45});
-  const View a = Look(truth_a), b = Look(truth_b);
-  FeatureIndex index;
-  for (int k = 0; k < n; ++k) {
-    index.frames.push_back(BuildFrameIndex(k == 0 ? a.features : k == 40 ? b.features : FrameFeatures(), {}));
-  }
+  const CornerLoop scene;
+  const int n = CornerLoop::n;
+  const Rigid3d& truth_a = scene.truth_a;
+  const Rigid3d& truth_b = scene.truth_b;
+  const FeatureIndex& index = scene.index;
   SiftLoopOptions options;
   options.keyframes.interval = 40;
-  std::vector<Keyframe> keyframes = {MakeKeyframe(0, a.sift, 300), MakeKeyframe(40, b.sift, 300)};
-  SiftLoopMatcher matcher(std::move(keyframes), std::vector<double>(n - 1, 1.0), options);
+  SiftLoopMatcher matcher(scene.Keyframes(), std::vector<double>(n - 1, 1.0), options);
 
   PoseVector poses(n, Pose::FromRigid(truth_a));
-  poses[40] = Pose::FromRigid(Pose3(0, {0.5, 0.1, -0.4}));  // drifted: 0.3 m and 12 deg off
+  poses[40] = Pose::FromRigid(scene.drifted_b);  // drifted: 0.3 m and 12 deg off
   WindowOptions w;
   w.polish_iterations = 0;
   std::vector<double> path(n);
@@ -88,15 +101,11 @@ TEST(SiftLoopMatcher, MatchesALoopWhenItsKeyframesFirstShareAWindow) {
 // leaves 0.018 m, 1.7 deg). When T0 is the truth, the same loop agrees, and the poses are
 // left as they are (re-placing them would swap refined poses for one RANSAC estimate).
 TEST(SiftLoopMatcher, OnlyALoopThatDisagreesWithThePosesReplacesThem) {
-  const int n = 41;
-  const Rigid3d truth_a = Pose3(0, {0, 0, -0.6});
-  const Rigid3d truth_b = Pose3(12, {0.25, 0.05, -0.45});
-  const Rigid3d drifted_b = Pose3(0, {0.5, 0.1, -0.4});
-  const View a = Look(truth_a), b = Look(truth_b);
-  FeatureIndex index;
-  for (int k = 0; k < n; ++k) {
-    index.frames.push_back(BuildFrameIndex(k == 0 ? a.features : k == 40 ? b.features : FrameFeatures(), {}));
-  }
+  const CornerLoop scene;
+  const int n = CornerLoop::n;
+  const Rigid3d& truth_a = scene.truth_a;
+  const Rigid3d& truth_b = scene.truth_b;
+  const FeatureIndex& index = scene.index;
   // A path from frame 0 to frame 40, evenly in translation and angle; T0 is such a path and
   // the odometry pairs are its steps.
   auto path = [&](const Rigid3d& end) {
@@ -129,9 +138,6 @@ TEST(SiftLoopMatcher, OnlyALoopThatDisagreesWithThePosesReplacesThem) {
   RefineRun run;
   run.quiet = true;
   run.keep_iterations = true;
-  auto keyframes = [&] {
-    return std::vector<Keyframe>{MakeKeyframe(0, a.sift, 300), MakeKeyframe(40, b.sift, 300)};
-  };
   auto relative_error = [&](const PoseVector& poses) {
     const Rigid3d expected = truth_a.inverse() * truth_b;
     const Rigid3d found = poses[0].ToRigid().inverse() * poses[40].ToRigid();
@@ -141,9 +147,9 @@ TEST(SiftLoopMatcher, OnlyALoopThatDisagreesWithThePosesReplacesThem) {
   // Windows of 8, 16, 32, then 64 frames: frames 0 and 40 first share one in iteration 3.
   const int loop_iteration = 3;
 
-  const Trajectory drifted = path(drifted_b);
+  const Trajectory drifted = path(scene.drifted_b);
   const RefineResult placed =
-      RefineFineToCoarse(index, pairs_of(drifted), drifted, testing::TestIntrinsics(), options, run, keyframes());
+      RefineFineToCoarse(index, pairs_of(drifted), drifted, testing::TestIntrinsics(), options, run, scene.Keyframes());
   ASSERT_GT(static_cast<int>(placed.iterations.size()), loop_iteration);
   for (int it = 0; it < loop_iteration; ++it) EXPECT_EQ(placed.iterations[it].loops.accepted, 0) << it;
   EXPECT_EQ(placed.iterations[loop_iteration].loops.accepted, 1);
@@ -157,7 +163,7 @@ TEST(SiftLoopMatcher, OnlyALoopThatDisagreesWithThePosesReplacesThem) {
 
   const Trajectory truth = path(truth_b);
   const RefineResult kept =
-      RefineFineToCoarse(index, pairs_of(truth), truth, testing::TestIntrinsics(), options, run, keyframes());
+      RefineFineToCoarse(index, pairs_of(truth), truth, testing::TestIntrinsics(), options, run, scene.Keyframes());
   ASSERT_GT(static_cast<int>(kept.iterations.size()), loop_iteration);
   EXPECT_EQ(kept.iterations[loop_iteration].loops.accepted, 1);
   EXPECT_TRUE(kept.iterations[loop_iteration].presolve.termination.empty()) << "the loop agrees: no re-placement";
