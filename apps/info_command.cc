@@ -32,7 +32,7 @@ int PrintJson(const RgbdSequence& seq) {
   if (seq.intrinsics) {
     const CameraIntrinsics& k = *seq.intrinsics;
     j["intrinsics"] = {{"fx", k.fx}, {"fy", k.fy}, {"cx", k.cx}, {"cy", k.cy}, {"width", k.width}, {"height", k.height},
-                       {"source", seq.intrinsics_source}};
+                       {"distortion", k.distortion}, {"source", seq.intrinsics_source}};
   } else {
     j["intrinsics"] = nullptr;
   }
@@ -53,9 +53,13 @@ int RunInfo(const InfoArgs& args) {
     const CameraIntrinsics& k = *seq.intrinsics;
     std::printf("intrinsics   fx %.3f fy %.3f cx %.3f cy %.3f (%s)\n", k.fx, k.fy, k.cx, k.cy,
                 seq.intrinsics_source.c_str());
+    if (k.HasDistortion()) {
+      std::printf("distortion   k1 %g k2 %g p1 %g p2 %g k3 %g (frames are resampled to the pinhole model)\n",
+                  k.distortion[0], k.distortion[1], k.distortion[2], k.distortion[3], k.distortion[4]);
+    }
   } else {
     std::printf("intrinsics   none in the folder: pass --intrinsics (tum-fr1, tum-fr2, tum-fr3, "
-                "primesense, or fx,fy,cx,cy)\n");
+                "primesense, or fx,fy,cx,cy[,k1,k2,p1,p2[,k3]])\n");
   }
   std::printf("depth        %s, %.6g m per unit, invalid values %s\n",
               seq.depth_encoding == DepthEncoding::kSun3dBitRotated ? "SUN3D bit-rotated" : "plain 16-bit",

@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     for (int k = 0; k + 5 < static_cast<int>(seq.frames.size()) && static_cast<int>(frames.size()) < pairs; k += step) {
       auto extract = [&](int i) {
         const cv::Mat depth = LoadDepthMeters(seq, seq.frames[i]);
-        return ExtractSiftWithDepth(LoadGray(seq.frames[i], depth.size()), depth, *seq.intrinsics, options);
+        return ExtractSiftWithDepth(LoadGray(seq, seq.frames[i], depth.size()), depth, *seq.intrinsics, options);
       };
       frames.emplace_back(extract(k + 5), extract(k));
       keypoints += frames.back().first.size() + frames.back().second.size();

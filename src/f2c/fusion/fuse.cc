@@ -99,7 +99,7 @@ FusionResult FuseTsdf(const RgbdSequence& seq, const std::vector<std::optional<R
                                            Decoded d;
                                            d.frame = frame;
                                            d.depth = LoadDepthMeters(seq, seq.frames[frame]);
-                                           d.color = LoadColor(seq.frames[frame], d.depth.size());
+                                           d.color = LoadColor(seq, seq.frames[frame], d.depth.size());
                                            decode_ns += static_cast<int64_t>(timer.Seconds() * 1e9);
                                            return d;
                                          }) &

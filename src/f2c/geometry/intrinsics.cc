@@ -13,8 +13,8 @@ namespace {
 
 const std::map<std::string, CameraIntrinsics>& Presets() {
   static const std::map<std::string, CameraIntrinsics> presets = {
-      {"tum-fr1", {517.3, 516.5, 318.6, 255.3, 640, 480}},
-      {"tum-fr2", {520.9, 521.0, 325.1, 249.7, 640, 480}},
+      {"tum-fr1", {517.3, 516.5, 318.6, 255.3, 640, 480, true, {0.2624, -0.9531, -0.0054, 0.0026, 1.1633}}},
+      {"tum-fr2", {520.9, 521.0, 325.1, 249.7, 640, 480, true, {0.2312, -0.7849, -0.0033, -0.0001, 0.9172}}},
       {"tum-fr3", {535.4, 539.2, 320.1, 247.6, 640, 480}},
       {"primesense", {525.0, 525.0, 319.5, 239.5, 640, 480}},
   };
@@ -22,6 +22,16 @@ const std::map<std::string, CameraIntrinsics>& Presets() {
 }
 
 }  // namespace
+
+Eigen::Vector2d CameraIntrinsics::Distort(double u, double v) const {
+  const double x = (u - cx) / fx, y = (v - cy) / fy;
+  const auto& [k1, k2, p1, p2, k3] = distortion;
+  const double r2 = x * x + y * y;
+  const double radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
+  const double xd = x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x);
+  const double yd = y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y;
+  return {fx * xd + cx, fy * yd + cy};
+}
 
 void CameraIntrinsics::Validate(const std::string& source) const {
   if (!(std::isfinite(fx) && std::isfinite(fy) && fx > 0 && fy > 0)) {
@@ -32,6 +42,9 @@ void CameraIntrinsics::Validate(const std::string& source) const {
     if (!size_known) ThrowInputError(source, fmt::format("principal point ({}, {}) must be >= 0", cx, cy));
     ThrowInputError(source, fmt::format("principal point ({}, {}) lies outside the {}x{} image",
                                         cx, cy, width, height));
+  }
+  for (double d : distortion) {
+    if (!std::isfinite(d)) ThrowInputError(source, fmt::format("distortion coefficient {} is not finite", d));
   }
 }
 
@@ -49,16 +62,18 @@ CameraIntrinsics ParseIntrinsics(const std::string& text, const std::string& sou
     const size_t end = std::min(text.find(',', begin), text.size());
     double v = 0;
     if (!ParseDouble(text.substr(begin, end - begin), &v)) {
-      ThrowInputError(source, fmt::format("'{}' is neither fx,fy,cx,cy nor a preset ({})", text,
+      ThrowInputError(source, fmt::format("'{}' is neither fx,fy,cx,cy[,k1,k2,p1,p2[,k3]] nor a preset ({})", text,
                                           fmt::join(IntrinsicsPresetNames(), ", ")));
     }
     values.push_back(v);
     begin = end + 1;
   }
-  if (values.size() != 4) {
-    ThrowInputError(source, fmt::format("expected 4 numbers fx,fy,cx,cy, got {}", values.size()));
+  if (values.size() != 4 && values.size() != 8 && values.size() != 9) {
+    ThrowInputError(source, fmt::format("expected 4 numbers fx,fy,cx,cy, 8 with k1,k2,p1,p2 or 9 with k3, got {}",
+                                        values.size()));
   }
   CameraIntrinsics intrinsics{values[0], values[1], values[2], values[3], 640, 480, false};
+  for (size_t i = 4; i < values.size(); ++i) intrinsics.distortion[i - 4] = values[i];
   intrinsics.Validate(source);
   return intrinsics;
 }

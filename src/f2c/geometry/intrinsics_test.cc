@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
+#include <limits>
 
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
@@ -34,9 +36,53 @@ TEST(ParseIntrinsics, UnknownPreset) {
     FAIL();
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(),
-                 "--intrinsics: 'kinect2' is neither fx,fy,cx,cy nor a preset (primesense, "
+                 "--intrinsics: 'kinect2' is neither fx,fy,cx,cy[,k1,k2,p1,p2[,k3]] nor a preset (primesense, "
                  "tum-fr1, tum-fr2, tum-fr3)");
   }
+}
+
+TEST(ParseIntrinsics, Distortion) {
+  // TUM's published calibrations (k1 k2 p1 p2 k3); fr3 was stored undistorted.
+  const CameraIntrinsics fr1 = ParseIntrinsics("tum-fr1", "--intrinsics");
+  EXPECT_EQ(fr1.distortion, (std::array<double, 5>{0.2624, -0.9531, -0.0054, 0.0026, 1.1633}));
+  EXPECT_TRUE(fr1.HasDistortion());
+  EXPECT_FALSE(ParseIntrinsics("tum-fr3", "--intrinsics").HasDistortion());
+  EXPECT_FALSE(ParseIntrinsics("500,501,320.5,240", "--intrinsics").HasDistortion());
+  const CameraIntrinsics eight = ParseIntrinsics("500,501,320,240,0.1,-0.2,0.003,0.004", "--intrinsics");
+  EXPECT_EQ(eight.distortion, (std::array<double, 5>{0.1, -0.2, 0.003, 0.004, 0}));
+  const CameraIntrinsics nine = ParseIntrinsics("500,501,320,240,0.1,-0.2,0.003,0.004,0.5", "--intrinsics");
+  EXPECT_DOUBLE_EQ(nine.distortion[4], 0.5);
+  try {
+    ParseIntrinsics("500,501,320,240,0.1", "--intrinsics");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "--intrinsics: expected 4 numbers fx,fy,cx,cy, 8 with k1,k2,p1,p2 or 9 with k3, got 5");
+  }
+  CameraIntrinsics bad = nine;
+  bad.distortion[1] = std::numeric_limits<double>::quiet_NaN();
+  try {
+    bad.Validate("calib.txt");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "calib.txt: distortion coefficient nan is not finite");
+  }
+}
+
+TEST(CameraIntrinsics, DistortByHand) {
+  CameraIntrinsics k{500, 400, 320, 240, 640, 480};
+  EXPECT_EQ(k.Distort(123.5, 456.25), Eigen::Vector2d(123.5, 456.25));  // no distortion: identity
+  // x = 0.2, y = -0.1: r^2 = 0.05.
+  const double u = 320 + 500 * 0.2, v = 240 - 400 * 0.1;
+  k.distortion = {0.1, 0, 0, 0, 0};  // radial 1 + 0.1 * 0.05 = 1.005
+  EXPECT_NEAR(k.Distort(u, v).x(), 320 + 500 * 0.2 * 1.005, 1e-9);
+  EXPECT_NEAR(k.Distort(u, v).y(), 240 - 400 * 0.1 * 1.005, 1e-9);
+  k.distortion = {0, 2, 0, 0, 3};  // radial 1 + 2 * 0.0025 + 3 * 0.000125 = 1.005375
+  EXPECT_NEAR(k.Distort(u, v).x(), 320 + 500 * 0.2 * 1.005375, 1e-9);
+  k.distortion = {0, 0, 0.01, 0.02, 0};
+  // Tangential: x' = x + 2 p1 x y + p2 (r^2 + 2 x^2) = 0.2 - 0.0004 + 0.0026 = 0.2022;
+  //             y' = y + p1 (r^2 + 2 y^2) + 2 p2 x y = -0.1 + 0.0007 - 0.0008 = -0.1001.
+  EXPECT_NEAR(k.Distort(u, v).x(), 320 + 500 * 0.2022, 1e-9);
+  EXPECT_NEAR(k.Distort(u, v).y(), 240 - 400 * 0.1001, 1e-9);
 }
 
 TEST(CameraIntrinsics, ProjectInvertsUnproject) {

@@ -3,10 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <string_view>
 #include <tuple>
 #include <vector>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "f2c/io/jpeg.h"
 #include "f2c/io/png.h"
@@ -97,7 +99,42 @@ cv::Mat LoadDepthMeters(const RgbdSequence& sequence, const RgbdFrame& frame) {
     float* out = depth.ptr<float>(y);
     for (int x = 0; x < raw.cols; ++x) out[x] = table[in[x]];
   }
+  if (sequence.intrinsics) return UndistortImage(depth, *sequence.intrinsics, cv::INTER_NEAREST);
   return depth;
+}
+
+cv::Mat UndistortImage(const cv::Mat& image, const CameraIntrinsics& intrinsics, int interpolation) {
+  if (!intrinsics.HasDistortion()) return image;
+  // Per pinhole pixel, where it lies in the stored image. Float maps for nearest neighbour
+  // (OpenCV rounds them); fixed-point ones for bilinear (OpenCV's fast path).
+  struct Maps {
+    std::array<double, 9> key{};
+    cv::Mat x, y, fixed_xy, fixed_weights;
+  };
+  thread_local Maps maps;
+  const std::array<double, 9> key{intrinsics.fx, intrinsics.fy, intrinsics.cx, intrinsics.cy,
+                                  intrinsics.distortion[0], intrinsics.distortion[1], intrinsics.distortion[2],
+                                  intrinsics.distortion[3], intrinsics.distortion[4]};
+  if (maps.x.size() != image.size() || maps.key != key) {
+    maps.key = key;
+    maps.x.create(image.size(), CV_32F);
+    maps.y.create(image.size(), CV_32F);
+    for (int v = 0; v < image.rows; ++v) {
+      for (int u = 0; u < image.cols; ++u) {
+        const Eigen::Vector2d d = intrinsics.Distort(u, v);
+        maps.x.at<float>(v, u) = static_cast<float>(d.x());
+        maps.y.at<float>(v, u) = static_cast<float>(d.y());
+      }
+    }
+    cv::convertMaps(maps.x, maps.y, maps.fixed_xy, maps.fixed_weights, CV_16SC2);
+  }
+  cv::Mat out;
+  if (interpolation == cv::INTER_NEAREST) {
+    cv::remap(image, out, maps.x, maps.y, cv::INTER_NEAREST, cv::BORDER_CONSTANT, cv::Scalar());
+  } else {
+    cv::remap(image, out, maps.fixed_xy, maps.fixed_weights, interpolation, cv::BORDER_CONSTANT, cv::Scalar());
+  }
+  return out;
 }
 
 namespace {
@@ -115,10 +152,14 @@ cv::Mat LoadColorAs(const RgbdFrame& frame, cv::Size depth_size, int flags) {
 
 }  // namespace
 
-cv::Mat LoadColor(const RgbdFrame& frame, cv::Size depth_size) { return LoadColorAs(frame, depth_size, cv::IMREAD_COLOR); }
+cv::Mat LoadColor(const RgbdSequence& sequence, const RgbdFrame& frame, cv::Size depth_size) {
+  const cv::Mat color = LoadColorAs(frame, depth_size, cv::IMREAD_COLOR);
+  return sequence.intrinsics ? UndistortImage(color, *sequence.intrinsics, cv::INTER_LINEAR) : color;
+}
 
-cv::Mat LoadGray(const RgbdFrame& frame, cv::Size depth_size) {
-  return LoadColorAs(frame, depth_size, cv::IMREAD_GRAYSCALE);
+cv::Mat LoadGray(const RgbdSequence& sequence, const RgbdFrame& frame, cv::Size depth_size) {
+  const cv::Mat gray = LoadColorAs(frame, depth_size, cv::IMREAD_GRAYSCALE);
+  return sequence.intrinsics ? UndistortImage(gray, *sequence.intrinsics, cv::INTER_LINEAR) : gray;
 }
 
 }  // namespace f2c

@@ -14,14 +14,21 @@ namespace f2c {
 cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags);
 
 // Depth in metres (CV_32F); invalid pixels are 0. Checks: the file decodes, is 16-bit single
-// channel, and has the intrinsics' size when intrinsics are known.
+// channel, and has the intrinsics' size when intrinsics are known. When the intrinsics carry
+// lens distortion, the depth is resampled to the pinhole model (nearest neighbour: depth is
+// never blended across an edge; pixels that map outside the stored image are 0).
 cv::Mat LoadDepthMeters(const RgbdSequence& sequence, const RgbdFrame& frame);
 
 // Colour as 8-bit BGR. Checks that it decodes and that its size equals the depth's
-// (`depth_size`, skipped when empty).
-cv::Mat LoadColor(const RgbdFrame& frame, cv::Size depth_size = {});
-// The colour image decoded straight to 8-bit grey (the same checks as LoadColor).
-cv::Mat LoadGray(const RgbdFrame& frame, cv::Size depth_size);
+// (`depth_size`, skipped when empty). Resampled to the pinhole model (bilinear) as the depth.
+cv::Mat LoadColor(const RgbdSequence& sequence, const RgbdFrame& frame, cv::Size depth_size = {});
+// The colour image decoded straight to 8-bit grey (the same checks and resampling as LoadColor).
+cv::Mat LoadGray(const RgbdSequence& sequence, const RgbdFrame& frame, cv::Size depth_size);
+
+// An image of the stored, distorted camera resampled to the pinhole model of `intrinsics`
+// (InterpolationFlags: cv::INTER_NEAREST or cv::INTER_LINEAR); the image itself when the
+// intrinsics have no distortion. The maps are computed once per thread and calibration.
+cv::Mat UndistortImage(const cv::Mat& image, const CameraIntrinsics& intrinsics, int interpolation);
 
 // Decodes one 16-bit value to millimetre-like units per the encoding (before depth_scale).
 inline uint16_t DecodeDepthValue(uint16_t v, DepthEncoding encoding) {

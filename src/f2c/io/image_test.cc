@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "f2c/testing/synthetic_scene.h"
 #include "f2c/util/error.h"
@@ -80,7 +81,7 @@ TEST(LoadDepthMeters, CorruptAndMissingFiles) {
   cv::imencode(".jpg", noise, jpeg);
   f.frame.color_path = f.dir / "c.jpg";
   WriteFileAtomic(f.frame.color_path, std::string(jpeg.begin(), jpeg.begin() + static_cast<long>(jpeg.size() / 2)));
-  EXPECT_EQ(testing::InputErrorMessage([&] { LoadGray(f.frame, cv::Size(640, 480)); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { LoadGray(f.seq, f.frame, cv::Size(640, 480)); }),
             f.frame.color_path.string() + ": corrupt JPEG: Premature end of JPEG file");
   fs::remove(f.frame.depth_path);
   EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(f.seq, f.frame); }), f.frame.depth_path.string() + ": missing frame image");
@@ -93,10 +94,79 @@ TEST(LoadDepthMeters, SizeMustMatchIntrinsics) {
             f.frame.depth_path.string() + ": depth image is 320x240 but the intrinsics (test) are for 640x480");
 }
 
+// Where a stored (distorted) pixel looks in the pinhole model: Distort inverted by fixed-point
+// iteration (the test's own inverse; the loaders only ever distort).
+Eigen::Vector2d Undistort(const CameraIntrinsics& k, const Eigen::Vector2d& stored) {
+  Eigen::Vector2d p = stored;
+  for (int i = 0; i < 50; ++i) p += stored - k.Distort(p.x(), p.y());
+  return p;
+}
+
+// A tilted plane as a camera with TUM fr1's lens stores it (depth along each stored pixel's
+// true ray): loaded with the distortion, every pixel back-projects through the pinhole model
+// onto the plane; loaded as a pinhole image, the same bytes miss it by centimetres.
+TEST(LoadDepthMeters, UndistortsToThePinholeModel) {
+  Fixture f = Make("img_undistort");
+  const CameraIntrinsics k = ParseIntrinsics("tum-fr1", "test");
+  const Eigen::Vector3d normal = Eigen::Vector3d(0.3, -0.2, -1).normalized();  // faces the camera
+  const double offset = normal.dot(Eigen::Vector3d(0, 0, 2));                  // through (0, 0, 2)
+  cv::Mat stored(480, 640, CV_16U);
+  for (int v = 0; v < 480; ++v) {
+    for (int u = 0; u < 640; ++u) {
+      const Eigen::Vector2d p = Undistort(k, {u, v});
+      const Eigen::Vector3d ray = k.Unproject(p.x(), p.y(), 1.0);
+      stored.at<uint16_t>(v, u) = static_cast<uint16_t>(std::lround(offset / normal.dot(ray) * 5000));
+    }
+  }
+  cv::imwrite(f.frame.depth_path.string(), stored);
+  f.seq.depth_scale = 1.0 / 5000;
+  auto worst_off_plane = [&](const CameraIntrinsics& intrinsics, int* valid) {
+    f.seq.intrinsics = intrinsics;
+    const cv::Mat depth = LoadDepthMeters(f.seq, f.frame);
+    double worst = 0;
+    *valid = 0;
+    for (int v = 0; v < 480; ++v) {
+      for (int u = 0; u < 640; ++u) {
+        const float z = depth.at<float>(v, u);
+        if (z <= 0) continue;
+        ++*valid;
+        worst = std::max(worst, std::abs(normal.dot(intrinsics.Unproject(u, v, z)) - offset));
+      }
+    }
+    return worst;
+  };
+  int valid = 0;
+  // Nearest neighbour: each pixel takes a ray up to half a pixel off its own (~1.5 mm here).
+  EXPECT_LT(worst_off_plane(k, &valid), 0.003);
+  EXPECT_GT(valid, 600 * 440);  // only the rim maps outside the stored image
+  CameraIntrinsics pinhole = k;
+  pinhole.distortion = {};
+  EXPECT_GT(worst_off_plane(pinhole, &valid), 0.03);
+  EXPECT_EQ(valid, 640 * 480);
+}
+
+// Colour goes through the same model: a dot stored where the lens puts pinhole pixel
+// (500, 100) comes out there.
+TEST(LoadGray, UndistortsLikeTheDepth) {
+  Fixture f = Make("img_undistort_gray");
+  f.seq.intrinsics = ParseIntrinsics("tum-fr1", "test");
+  const Eigen::Vector2d at = f.seq.intrinsics->Distort(500, 100);
+  cv::Mat color(480, 640, CV_8UC3, cv::Scalar(0, 0, 0));
+  cv::circle(color, cv::Point(static_cast<int>(std::lround(at.x())), static_cast<int>(std::lround(at.y()))), 2,
+             cv::Scalar(255, 255, 255), cv::FILLED);
+  cv::imwrite(f.frame.color_path.string(), color);
+  EXPECT_GT(std::abs(at.x() - 500) + std::abs(at.y() - 100), 10);  // the lens moves it visibly
+  const cv::Mat gray = LoadGray(f.seq, f.frame, cv::Size(640, 480));
+  cv::Point brightest;
+  cv::minMaxLoc(gray, nullptr, nullptr, nullptr, &brightest);
+  EXPECT_LE(std::abs(brightest.x - 500), 1);
+  EXPECT_LE(std::abs(brightest.y - 100), 1);
+}
+
 TEST(LoadColor, SizeMustMatchDepth) {
   Fixture f = Make("img_size_c");
   cv::imwrite(f.frame.color_path.string(), cv::Mat(240, 320, CV_8UC3, cv::Scalar(0)));
-  EXPECT_EQ(testing::InputErrorMessage([&] { LoadColor(f.frame, cv::Size(640, 480)); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] { LoadColor(f.seq, f.frame, cv::Size(640, 480)); }),
             f.frame.color_path.string() + ": colour image is 320x240 but its depth image d.png is 640x480");
 }
 

@@ -177,6 +177,7 @@ std::string CacheContext(const RgbdSequence& seq, const std::string& options_jso
     const CameraIntrinsics& k = *seq.intrinsics;
     context += fmt::format("|K {:.17g} {:.17g} {:.17g} {:.17g} {} {}", k.fx, k.fy, k.cx, k.cy,
                            k.width, k.height);
+    if (k.HasDistortion()) context += fmt::format("|D {:.17g}", fmt::join(k.distortion, " "));
   }
   context += fmt::format("|depth {:.17g} {} {}", seq.depth_scale, static_cast<int>(seq.depth_encoding),
                          fmt::join(seq.invalid_depth_values, ","));

@@ -44,7 +44,8 @@ struct RgbdSequence {
 };
 
 struct IoOptions {
-  // "fx,fy,cx,cy" or a preset name (see IntrinsicsPresetNames()); empty: the dataset's own.
+  // "fx,fy,cx,cy[,k1,k2,p1,p2[,k3]]" or a preset name (see IntrinsicsPresetNames()); empty:
+  // the dataset's own.
   std::string intrinsics;
   // Frame selection, applied after reading: frames first..last (inclusive, 0-based; -1 = to
   // the end) of the associated sequence, then every N-th of those.
@@ -67,8 +68,8 @@ struct IoOptions {
   void Fields(V& v) {
     v.Group("Frames");
     F2C_FIELD(v, intrinsics, "--intrinsics", {},
-              "fx,fy,cx,cy or a preset: tum-fr1, tum-fr2, tum-fr3, primesense (TUM folders carry none; overrides a "
-              "dataset's own)");
+              "fx,fy,cx,cy[,k1,k2,p1,p2[,k3]] or a preset: tum-fr1, tum-fr2, tum-fr3, primesense (TUM folders carry none; "
+              "overrides a dataset's own; with distortion, frames are resampled to the pinhole model)");
     F2C_FIELD(v, every, "--every", AtLeast(1), "use every N-th frame");
     F2C_FIELD(v, first, "--first", AtLeast(0), "first frame (0-based)");
     F2C_FIELD(v, last, "--last", AtLeast(-1), "last frame, inclusive (-1: the end)");

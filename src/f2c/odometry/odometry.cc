@@ -144,7 +144,7 @@ void DecodeFrame(const RgbdSequence& seq, int index, StageClock* clock, cv::Mat*
   Timer timer;
   const RgbdFrame& frame = seq.frames[index];
   *depth = LoadDepthMeters(seq, frame);
-  *gray = LoadGray(frame, depth->size());
+  *gray = LoadGray(seq, frame, depth->size());
   clock->decode += timer.Seconds();
 }
 

@@ -151,7 +151,7 @@ std::vector<Keyframe> KeyframeStore::Finish(const std::vector<int>& frames) {
     const int i = missing[m];
     const RgbdFrame& frame = seq_.frames[frames[i]];
     const cv::Mat depth = LoadDepthMeters(seq_, frame);
-    const cv::Mat gray = LoadGray(frame, depth.size());  // as the odometry decodes it
+    const cv::Mat gray = LoadGray(seq_, frame, depth.size());  // as the odometry decodes it
     keyframes[i] = MakeKeyframe(frames[i], ExtractSiftWithDepth(gray, depth, *seq_.intrinsics, sift_), options_.max_keypoints);
   });
   computed_ = static_cast<int>(missing.size());

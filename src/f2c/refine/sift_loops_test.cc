@@ -188,7 +188,7 @@ TEST(KeyframeStore, OfferedKeyframesAreCachedAndReadBack) {
   // decoded by Finish.
   cv::Mat gray;
   const cv::Mat depth = LoadDepthMeters(seq, seq.frames[0]);
-  cv::cvtColor(LoadColor(seq.frames[0], depth.size()), gray, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(LoadColor(seq, seq.frames[0], depth.size()), gray, cv::COLOR_BGR2GRAY);
   const SiftFeatures sift = ExtractSiftWithDepth(gray, depth, *seq.intrinsics, SiftOptions());
   std::vector<Keyframe> first;
   {
