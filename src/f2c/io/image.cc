@@ -106,7 +106,8 @@ cv::Mat LoadDepthMeters(const RgbdSequence& sequence, const RgbdFrame& frame) {
 cv::Mat UndistortImage(const cv::Mat& image, const CameraIntrinsics& intrinsics, int interpolation) {
   if (!intrinsics.HasDistortion()) return image;
   // Per pinhole pixel, where it lies in the stored image. Float maps for nearest neighbour
-  // (OpenCV rounds them); fixed-point ones for bilinear (OpenCV's fast path).
+  // (OpenCV rounds them); fixed-point ones for bilinear (OpenCV's fast path). Outside the
+  // stored image: depth 0 (invalid), colour its nearest edge pixel (image.h).
   struct Maps {
     std::array<double, 9> key{};
     cv::Mat x, y, fixed_xy, fixed_weights;
@@ -132,7 +133,7 @@ cv::Mat UndistortImage(const cv::Mat& image, const CameraIntrinsics& intrinsics,
   if (interpolation == cv::INTER_NEAREST) {
     cv::remap(image, out, maps.x, maps.y, cv::INTER_NEAREST, cv::BORDER_CONSTANT, cv::Scalar());
   } else {
-    cv::remap(image, out, maps.fixed_xy, maps.fixed_weights, interpolation, cv::BORDER_CONSTANT, cv::Scalar());
+    cv::remap(image, out, maps.fixed_xy, maps.fixed_weights, interpolation, cv::BORDER_REPLICATE);
   }
   return out;
 }
