@@ -6,6 +6,9 @@
 # the room's walls as T0 and each result place them.
 #
 #   bash bench/wall_angles.sh [build dir] [work dir]
+#
+# F2C_BENCH_SEEDS: the walks' seeds (default "0"); seed 0 keeps the folder names of earlier
+# runs, others get -sSEED.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="$(pwd)/${1:-build}"
@@ -13,22 +16,26 @@ bin="$build/apps/fine2coarse"
 work="${2:-$(mktemp -d)}"
 mkdir -p "$work"
 declare -A skew=([apartment]=1.0 [apartment-square]=0.420417)  # scene.cc: 4 tan(6 deg)
+for seed in ${F2C_BENCH_SEEDS:-0}; do
+suffix=""
+[ "$seed" = 0 ] || suffix="-s$seed"
 for scene in apartment apartment-square; do
-  sim="$work/sim-$scene-2001"
-  [ -f "$sim/rgb.txt" ] || "$bin" simulate --scene "$scene" --frames 2001 --seed 0 -o "$sim" -q > /dev/null
+  sim="$work/sim-$scene-2001$suffix"
+  [ -f "$sim/rgb.txt" ] || "$bin" simulate --scene "$scene" --frames 2001 --seed "$seed" -o "$sim" -q > /dev/null
   s=${skew[$scene]}
   walls=(--wall right 10 6 "$(awk "BEGIN {print 10 - $s}")" 10 --wall back "$(awk "BEGIN {print 10 - $s}")" 10 "$(awk "BEGIN {print 2 + $s}")" 10
          --wall left "$(awk "BEGIN {print 2 + $s}")" 10 2 6)
   for variant in no-structure structure; do
-    out="$work/out-$scene-$variant"
+    out="$work/out-$scene$suffix-$variant"
     mkdir -p "$out"
-    [ -d "$work/out-$scene-no-structure/cache" ] && [ ! -d "$out/cache" ] && cp -r "$work/out-$scene-no-structure/cache" "$out/"
+    [ -d "$work/out-$scene$suffix-no-structure/cache" ] && [ ! -d "$out/cache" ] && cp -r "$work/out-$scene$suffix-no-structure/cache" "$out/"
     "$bin" register "$sim" -o "$out" -q --no-mesh "--$variant" > "$out.log" 2>&1
     if [ "$variant" = no-structure ]; then
-      echo "## $scene, T0"
+      echo "## $scene, seed $seed, T0"
       "$build/bench/wall_angles" "$sim" "$out/cache/features.f2cf" "$out/trajectory_t0.txt" "${walls[@]}"
     fi
-    echo "## $scene, --$variant"
+    echo "## $scene, seed $seed, --$variant"
     "$build/bench/wall_angles" "$sim" "$out/cache/features.f2cf" "$out/trajectory.txt" "${walls[@]}"
   done
+done
 done

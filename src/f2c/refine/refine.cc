@@ -128,6 +128,7 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     s.window_length = schedule.Length(it);
     s.windows = static_cast<int>(schedule.Windows(it).size());
     s.full = schedule.Full(it);
+    s.polish = schedule.Polishing(it);
     s.local_constraints = static_cast<int>(constraints.local.size());
 
     const PoseVector before = result.poses;
@@ -200,6 +201,10 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     // keypoint, colour and depth not always registered) are less precise than they are, and
     // by then the loops they closed are within the correspondences' reach.
     if (schedule.Polishing(it) && !options.loops.in_polish) constraints.matches.clear();
+    if (s.polish && options.polish_relation_loss_scale_deg > 0) {
+      solver.relation_loss_scale_deg = options.polish_relation_loss_scale_deg;
+    }
+    s.relation_loss_scale_deg = solver.relation_loss_scale_deg;
     s.solve = SolvePoses(constraints, solver, &result.poses);
     s.seconds_solve = stage.Seconds();
     PoseChange(before, result.poses, &s);
@@ -227,6 +232,7 @@ nlohmann::json ToJson(const IterationSummary& s) {
           {"window_length", s.window_length},
           {"windows", s.windows},
           {"full", s.full},
+          {"polish", s.polish},
           {"candidate_pairs", s.candidate_pairs},
           {"correspondences", ToJson(s.correspondences)},
           {"sift_loops", ToJson(s.loops)},
@@ -235,6 +241,7 @@ nlohmann::json ToJson(const IterationSummary& s) {
                        {"E_P", s.weight_proxy},
                        {"E_H", s.weight_coplanarity},
                        {"E_G", s.weight_relation}}},
+          {"relation_loss_scale_deg", s.relation_loss_scale_deg},
           {"hierarchy", ToJson(s.hierarchy)},
           {"child_normal_spread_deg", s.child_normal_spread_deg},
           {"coplanarity_noise_factor", s.coplanarity_noise_factor},

@@ -45,7 +45,7 @@ struct RefineOptions {
   // The planar structural model (E_P, E_H, E_G), register --structure. Off by default for
   // now: measured (BENCHMARKS.md), it lowers rotation drift and error on simulated multi-room
   // walks and helps 7-Scenes redkitchen a little, but costs accuracy on TUM fr1/xyz
-  // (0.0126 -> 0.0140 m ATE: the sensor's views of one plane disagree on its tilt, and E_H
+  // (0.0118 -> 0.0121 m ATE: the sensor's views of one plane disagree on its tilt, and E_H
   // pulls the poses to make them agree) and time.
   bool structure = false;
   HierarchyOptions hierarchy;
@@ -68,6 +68,16 @@ struct RefineOptions {
   // where views agree to this angle (the simulated Kinect noise); a real sensor's depth bias
   // makes them disagree more, and E_H then pulls the poses towards that bias.
   double coplanarity_noise_reference_deg = 0.25;
+  // E_G in the polish iterations, beyond the paper: through a Cauchy loss of this scale on the
+  // angle off the relation (deg; 0: as in the schedule's iterations, --relation-loss-scale).
+  // By then windows have held the whole scan and removed the drift the data can see, so a
+  // relation still degrees off is more likely the room's own angle than drift: with the loss
+  // it pulls where nearly met and fades where not (a room 6 deg off square stays so). In the
+  // schedule's iterations relations keep the paper's full pull, which straightens the
+  // drift. Measured (BENCHMARKS.md, ninth stop): the off-square rooms' wall angles come
+  // closer to the truth than without the structure, redkitchen keeps most of E_G's gain
+  // (1 deg gives up all of it), the simulated walks do not move.
+  double polish_relation_loss_scale_deg = 3;
 
   template <class V>
   void Fields(V& v) {
@@ -95,6 +105,8 @@ struct RefineOptions {
     F2C_FIELD(v, coplanarity_noise_reference_deg, "--coplanarity-noise-reference", AtLeast(0),
               "w_H times min(1, (this / the children's normal spread in windows of l_0 frames at the start)^2) (deg; 0: "
               "off)");
+    F2C_FIELD(v, polish_relation_loss_scale_deg, "--polish-relation-loss-scale", AtLeast(0),
+              "Cauchy scale of E_G in the polish iterations (deg; 0: as in the others, --relation-loss-scale)");
     F2C_NESTED(v, hierarchy);
     F2C_NESTED(v, relations);
     F2C_NESTED(v, loops);
@@ -107,12 +119,14 @@ struct IterationSummary {
   double window_length = 0;  // frames, or metres in path mode
   int windows = 0;
   bool full = false;         // one window holds the scan
+  bool polish = false;       // a polish iteration (the schedule's last ones, and those added)
   int candidate_pairs = 0;
   CorrespondenceStats correspondences;
   SiftLoopStats loops;
   int local_constraints = 0;
   double weight_correspondence = 0;
   double weight_proxy = 0, weight_coplanarity = 0, weight_relation = 0;
+  double relation_loss_scale_deg = 0;  // E_G's Cauchy scale this iteration (0: least squares)
   double child_normal_spread_deg = 0;  // with the structure: ChildNormalSpreadDeg, this iteration's windows
   double coplanarity_noise_factor = 1;  // w_H's factor from the measured spread
   HierarchyStats hierarchy;

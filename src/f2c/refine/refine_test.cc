@@ -235,6 +235,14 @@ TEST_F(RefineOnAWalk, StructureStraightensRotationDrift) {
   EXPECT_LT(on.rotation.max, 0.5) << "the issue's worst rotation drift";
   EXPECT_LT(on.rotation.max, off.rotation.max) << "on " << on.rotation.max << ", off " << off.rotation.max;
   EXPECT_LT(on.rotation.rmse, 0.85 * off.rotation.rmse) << "on " << on.rotation.rmse << ", off " << off.rotation.rmse;
+  // E_G pulls in full through the schedule and through a Cauchy loss in the polish iterations.
+  int polishing = 0;
+  for (const IterationSummary& s : with.iterations) {
+    polishing += s.polish;
+    EXPECT_EQ(s.relation_loss_scale_deg, s.polish ? options.polish_relation_loss_scale_deg : 0.0) << s.iteration;
+  }
+  EXPECT_GT(polishing, 0);
+  EXPECT_LT(polishing, static_cast<int>(with.iterations.size()));
   std::printf("rotation drift worst / RMS (deg): T0 %.2f / %.2f, structure %.3f / %.3f, no structure %.3f / %.3f\n",
               before.rotation.max, before.rotation.rmse, on.rotation.max, on.rotation.rmse, off.rotation.max,
               off.rotation.rmse);
