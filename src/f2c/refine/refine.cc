@@ -200,9 +200,12 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     // Polish iterations trust the closest features alone: SIFT points (depth read at a
     // keypoint, colour and depth not always registered) are less precise than they are, and
     // by then the loops they closed are within the correspondences' reach.
-    if (schedule.Polishing(it) && !options.loops.in_polish) constraints.matches.clear();
-    if (s.polish && options.polish_relation_loss_scale_deg > 0) {
-      solver.relation_loss_scale_deg = options.polish_relation_loss_scale_deg;
+    if (s.polish && !options.loops.in_polish) constraints.matches.clear();
+    // The tighter of the two losses: --relation-loss-scale may already ask for one.
+    const double polish_scale = options.polish_relation_loss_scale_deg;
+    if (s.polish && polish_scale > 0 &&
+        (solver.relation_loss_scale_deg == 0 || polish_scale < solver.relation_loss_scale_deg)) {
+      solver.relation_loss_scale_deg = polish_scale;
     }
     s.relation_loss_scale_deg = solver.relation_loss_scale_deg;
     s.solve = SolvePoses(constraints, solver, &result.poses);
