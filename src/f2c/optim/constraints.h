@@ -35,6 +35,17 @@ struct RelativePoseConstraint {
   double weight = 1;
 };
 
+// E_V (beyond the paper): frames a, b, c consecutive in time, whose motion should be steady.
+// scale_ab, scale_bc turn each increment into a velocity in units of a reference interval
+// (reference dt / dt; refine/steady_motion.h).
+struct SteadyMotionConstraint {
+  int32_t frame_a = 0;
+  int32_t frame_b = 0;
+  int32_t frame_c = 0;
+  double scale_ab = 1;
+  double scale_bc = 1;
+};
+
 // E_M (beyond the paper): a SIFT match between two frames the refinement re-matched (a loop
 // or a bridge over weak odometry), verified by RANSAC: the same surface point seen in both.
 struct PointMatch {
@@ -97,6 +108,7 @@ struct Constraints {
   std::vector<RelativePoseConstraint> local;           // E_L
   std::vector<PointMatch> matches;                     // E_M
   StructureConstraints structure;                      // E_P, E_H, E_G
+  std::vector<SteadyMotionConstraint> steady_motion;   // E_V
 };
 
 }  // namespace f2c

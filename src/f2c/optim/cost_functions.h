@@ -7,6 +7,7 @@
 // the problem builder (optim/problem.h) applies each term's weight and robust loss.
 
 #include <ceres/autodiff_cost_function.h>
+#include <ceres/rotation.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -125,6 +126,57 @@ struct RelativePoseCost {
   Eigen::Quaterniond rotation_inverse_;
   Eigen::Vector3d translation_;
   double s_t_, s_r_;
+};
+
+// E_V, steady motion (beyond the paper): three poses a, b, c consecutive in time should move
+// at a steady velocity. With each turn as a rotation vector in the earlier frame's
+// coordinates (log(q_a^-1 q_b), log(q_b^-1 q_c)) and each step in the world,
+//   r[0..2] = s_t (f_bc (t_c - t_b) - f_ab (t_b - t_a))                 metres
+//   r[3..5] = s_r (f_bc log(q_b^-1 q_c) - f_ab log(q_a^-1 q_b))         radians
+// f_ab, f_bc scale each increment to a velocity per reference interval (dt_reference / dt),
+// so a dropped frame does not read as a jolt. Zero for any constant linear and angular velocity
+// (a screw motion), also across intervals of different lengths.
+struct SteadyMotionCost {
+  SteadyMotionCost(double scale_ab, double scale_bc, double sqrt_weight_translation, double sqrt_weight_rotation)
+      : f_ab_(scale_ab), f_bc_(scale_bc), s_t_(sqrt_weight_translation), s_r_(sqrt_weight_rotation) {}
+
+  template <typename T>
+  bool operator()(const T* rotation_a, const T* translation_a, const T* rotation_b, const T* translation_b,
+                  const T* rotation_c, const T* translation_c, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q_a(rotation_a);
+    const Eigen::Map<const Eigen::Quaternion<T>> q_b(rotation_b);
+    const Eigen::Map<const Eigen::Quaternion<T>> q_c(rotation_c);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_a(translation_a);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_b(translation_b);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_c(translation_c);
+    const Eigen::Matrix<T, 3, 1> turn_ab = RotationVector<T>(q_a.conjugate() * q_b);
+    const Eigen::Matrix<T, 3, 1> turn_bc = RotationVector<T>(q_b.conjugate() * q_c);
+    for (int i = 0; i < 3; ++i) {
+      residual[i] = T(s_t_) * (T(f_bc_) * (t_c[i] - t_b[i]) - T(f_ab_) * (t_b[i] - t_a[i]));
+      residual[3 + i] = T(s_r_) * (T(f_bc_) * turn_bc[i] - T(f_ab_) * turn_ab[i]);
+    }
+    return true;
+  }
+
+  static ceres::CostFunction* Create(double scale_ab, double scale_bc, double sqrt_weight_translation,
+                                     double sqrt_weight_rotation) {
+    return new ceres::AutoDiffCostFunction<SteadyMotionCost, 6, 4, 3, 4, 3, 4, 3>(
+        new SteadyMotionCost(scale_ab, scale_bc, sqrt_weight_translation, sqrt_weight_rotation));
+  }
+
+ private:
+  // The rotation vector (axis times angle, the short way round) of a unit quaternion, by
+  // Ceres' QuaternionToAngleAxis (order w, x, y, z; exact derivatives at zero).
+  template <typename T>
+  static Eigen::Matrix<T, 3, 1> RotationVector(const Eigen::Quaternion<T>& q) {
+    const T sign = q.w() < T(0) ? T(-1) : T(1);
+    const T wxyz[4] = {sign * q.w(), sign * q.x(), sign * q.y(), sign * q.z()};
+    Eigen::Matrix<T, 3, 1> v;
+    ceres::QuaternionToAngleAxis(wxyz, v.data());
+    return v;
+  }
+
+  double f_ab_, f_bc_, s_t_, s_r_;
 };
 
 // E_M, SIFT matches (beyond the paper): the two sightings of one point, in the world,

@@ -125,6 +125,53 @@ TEST_F(CostFunctions, PoseChangeVanishesAtThePreviousPoseAndMeasuresTheChange) {
   ExpectJacobiansMatch(*cost, blocks, {&quaternion, nullptr});
 }
 
+// E_V: a screw motion (the same body-frame turn and the same world step each interval)
+// costs nothing, wherever it is and however fast; a frame turned or moved off it does.
+TEST_F(CostFunctions, SteadyMotionVanishesForAConstantVelocity) {
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(0.05, Eigen::Vector3d(0.3, -1, 0.2).normalized()));
+  const Eigen::Vector3d step(0.02, -0.01, 0.03);
+  Pose c = a_;
+  b_ = a_;
+  b_.rotation = a_.rotation * turn;
+  b_.translation = a_.translation + step;
+  c.rotation = b_.rotation * turn;
+  c.translation = b_.translation + step;
+  std::vector<double*> blocks = {a_.rotation_data(), a_.translation_data(), b_.rotation_data(),
+                                 b_.translation_data(), c.rotation_data(),  c.translation_data()};
+  std::unique_ptr<ceres::CostFunction> cost(SteadyMotionCost::Create(1.0, 1.0, 2.0, 3.0));
+  for (double r : Residuals(*cost, blocks)) EXPECT_NEAR(r, 0.0, 1e-12);
+  // The second interval twice as long (a dropped frame): twice the turn and the step, scaled
+  // by 1/2, is the same velocity.
+  c.rotation = b_.rotation * turn * turn;
+  c.translation = b_.translation + 2 * step;
+  std::unique_ptr<ceres::CostFunction> gap(SteadyMotionCost::Create(1.0, 0.5, 2.0, 3.0));
+  for (double r : Residuals(*gap, blocks)) EXPECT_NEAR(r, 0.0, 1e-12);
+  // Read as one interval, the same poses are a jolt.
+  const std::vector<double> jolt = Residuals(*cost, blocks);
+  EXPECT_NEAR(jolt[0], 2.0 * 0.02, 1e-12);  // one more step of 0.02 m along x, at s_t = 2
+  const std::vector<const ceres::Manifold*> manifolds = {&quaternion_, nullptr, &quaternion_,
+                                                         nullptr,      &quaternion_, nullptr};
+  ExpectJacobiansMatch(*cost, blocks, manifolds);
+  ExpectJacobiansMatch(*gap, blocks, manifolds);
+}
+
+TEST_F(CostFunctions, SteadyMotionHandComputed) {
+  // a and b at rest at the origin; c turned 0.1 rad about z and moved 0.05 m along x.
+  a_ = Pose();
+  b_ = Pose();
+  Pose c;
+  c.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()));
+  c.translation = Eigen::Vector3d(0.05, 0, 0);
+  std::vector<double*> blocks = {a_.rotation_data(), a_.translation_data(), b_.rotation_data(),
+                                 b_.translation_data(), c.rotation_data(),  c.translation_data()};
+  std::unique_ptr<ceres::CostFunction> cost(SteadyMotionCost::Create(1.0, 0.5, 2.0, 3.0));
+  const std::vector<double> r = Residuals(*cost, blocks);
+  EXPECT_NEAR(r[0], 2.0 * 0.5 * 0.05, 1e-12);
+  EXPECT_NEAR(r[1], 0.0, 1e-12);
+  EXPECT_NEAR(r[3], 0.0, 1e-12);
+  EXPECT_NEAR(r[5], 3.0 * 0.5 * 0.1, 1e-12);
+}
+
 // The hand-written E_C kernels (EvaluateConstraint, here through a one-constraint PairCost with
 // no loss) compute the AutoDiff functors' residuals and Jacobians exactly, at unit and
 // non-unit quaternions alike, and pass the same central-difference checks.

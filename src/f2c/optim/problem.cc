@@ -29,6 +29,7 @@ namespace {
 
 constexpr const char* kTermC = "E_C";
 constexpr const char* kTermL = "E_L";
+constexpr const char* kTermV = "E_V";
 constexpr const char* kTermI = "E_I";
 constexpr const char* kTermM = "E_M";
 constexpr const char* kTermP = "E_P";
@@ -241,6 +242,30 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       pp.Add(kTermL,
              RelativePoseCost::Create(l.rotation_a_from_b, l.translation_a_from_b, s, s * options.rotation_lever_arm),
              nullptr, blocks(l.frame_a, l.frame_b));
+    }
+  }
+
+  // E_V: steady motion over consecutive frames, w_V / (number of triples) each; rotations
+  // at the lever arm.
+  const std::vector<SteadyMotionConstraint>& steady = constraints.steady_motion;
+  for (const SteadyMotionConstraint& v : steady) {
+    if (options.weight_velocity == 0) break;
+    F2C_CHECK(v.frame_a >= 0 && v.frame_a < n && v.frame_b >= 0 && v.frame_b < n && v.frame_c >= 0 && v.frame_c < n,
+              "steady-motion frames in range");
+    const double w = options.weight_velocity / static_cast<double>(steady.size());
+    Pose& pa = (*poses)[v.frame_a];
+    Pose& pb = (*poses)[v.frame_b];
+    Pose& pc = (*poses)[v.frame_c];
+    std::vector<double*> b{pa.rotation_data(), pa.translation_data(), pb.rotation_data(),
+                           pb.translation_data(), pc.rotation_data(), pc.translation_data()};
+    if (options.velocity_loss_scale > 0) {
+      // The weight after the loss, so its scale stays in metres.
+      pp.Add(kTermV, SteadyMotionCost::Create(v.scale_ab, v.scale_bc, 1.0, options.rotation_lever_arm),
+             pp.Loss(RobustLoss::kCauchy, options.velocity_loss_scale, w, kTermV), std::move(b));
+    } else {
+      const double s = std::sqrt(w);
+      pp.Add(kTermV, SteadyMotionCost::Create(v.scale_ab, v.scale_bc, s, s * options.rotation_lever_arm), nullptr,
+             std::move(b));
     }
   }
 

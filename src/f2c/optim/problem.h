@@ -1,6 +1,6 @@
 #pragma once
 // One refinement iteration's optimisation (paper §4.3):
-//   argmin_{T,P}  w_C E_C(T, C) + w_L E_L(T) + w_I E_I(T, P) + w_M E_M(T)
+//   argmin_{T,P}  w_C E_C(T, C) + w_L E_L(T) + w_I E_I(T, P) + w_M E_M(T) + w_V E_V(T)
 //                 + w_P E_P(T, P) + w_H E_H(P) + w_G E_G(P)
 // over every camera pose but the first, which is held fixed (the gauge), and the plane
 // variables P of the structural model (optim/structure_costs.h), when there is one. Each term's weight
@@ -9,7 +9,8 @@
 // the terms does not change with how many constraints an iteration finds. E_C residuals go
 // through a robust loss (metres). E_M (SIFT matches the refinement found, beyond the paper)
 // weighs each match w_M / n (n frames), not shared: a verified match counts the same however
-// many others there are; its Cauchy loss (match_loss_scale) tames the rare wrong one. Solved with Ceres: sparse normal Cholesky (SuiteSparse),
+// many others there are; its Cauchy loss (match_loss_scale) tames the rare wrong one. E_V
+// (steady motion, beyond the paper) shares w_V among its triples of consecutive frames. Solved with Ceres: sparse normal Cholesky (SuiteSparse),
 // poses on EigenQuaternionManifold x R^3, plane normals on SphereManifold<3>. E_P shares w_P
 // among the children by their m_j, E_H w_H among the links, E_G w_G among the relations by
 // w_ab, and E_I w_I / n per pose and w_I / (number of planes) per plane.
@@ -41,6 +42,14 @@ struct SolverOptions {
   double weight_local = 100;
   double weight_inertia = 1;
   double weight_match = 100;
+  // E_V, steady motion (beyond the paper; optim/cost_functions.h): consecutive frames' changes
+  // of velocity, linear and angular (rotations at the lever arm), as much in total as E_L.
+  // Where nothing else sees a direction (a camera facing one plain wall cannot see its turn
+  // about the wall's normal) or one odometry pair is wrong and E_L repeats it, E_L alone
+  // keeps T0's jolt; the camera's motion is steadier than that. Measured (BENCHMARKS.md,
+  // "Tenth stop"): lower correspondence error and worst rotation drift on the simulated
+  // walks, lower ATE on fr1/xyz. 0: off (the paper).
+  double weight_velocity = 100;
   // The structural model's totals (E_P, E_H, E_G); the authors' code: E_S 1500 -> 1000 and
   // E_H 1500 -> 1000 over the iterations. Measured choices in BENCHMARKS.md.
   double weight_proxy = 1000;
@@ -54,6 +63,8 @@ struct SolverOptions {
   // with least squares, loops spread such an error over every pair; a robust E_L lets it
   // stay where it is.
   double local_loss_scale = 0.0;
+  // Cauchy scale of E_V's residuals (metres; rotations at the lever arm); 0: least squares.
+  double velocity_loss_scale = 0.0;
   double match_loss_scale = 0.05;  // metres
   // Cauchy scale of E_H's residuals (metres; 0: least squares): a child that a wrong merge or
   // the sensor's depth bias puts off its parent pulls less. 1 cm: about how far a
@@ -101,6 +112,9 @@ struct SolverOptions {
     F2C_FIELD(v, weight_inertia, "--weight-inertia", AtLeast(0), "w_I, E_I's total weight");
     F2C_FIELD(v, rotation_lever_arm, "--rotation-lever-arm", Positive(), "E_L/E_I compare rotations at this distance (m/rad)");
     F2C_FIELD(v, local_loss_scale, "--local-loss-scale", AtLeast(0), "Cauchy scale of E_L (m; 0: least squares)");
+    F2C_FIELD(v, weight_velocity, "--weight-velocity", AtLeast(0),
+              "w_V, E_V's total weight (steady motion over consecutive frames; 0: off, the paper)");
+    F2C_FIELD(v, velocity_loss_scale, "--velocity-loss-scale", AtLeast(0), "Cauchy scale of E_V (m; 0: least squares)");
     F2C_FIELD(v, weight_match, "--weight-match", AtLeast(0), "w_M: each SIFT loop match weighs w_M / frames");
     F2C_FIELD(v, match_loss_scale, "--match-loss-scale", Positive(), "Cauchy scale of E_M (m)");
     F2C_FIELD(v, loss, "--loss", {}, "robust loss of E_C: none, huber, cauchy");

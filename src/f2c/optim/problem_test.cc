@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
+
 #include <random>
 
 #include "f2c/geometry/rigid.h"
@@ -198,6 +200,75 @@ TEST(SolvePoses, TermWeightsAreTotalsSharedAmongResiduals) {
   options.local_loss_scale = 0.05;
   const SolveSummary robust = SolvePoses({{}, local, {}, {}}, options, &poses);
   EXPECT_NEAR(robust.cost_before.at("E_L"), 0.5 * 300 * 0.0025 * std::log(1 + 0.01 / 0.0025), 1e-9);
+}
+
+// E_V against one wrong odometry pair, which E_L repeats in both of the frame's links (as T0's
+// consecutive differences do when one tracked pair is wrong): without E_V nothing disputes
+// it and the frame stays 3 degrees off; with E_V at E_L's total it comes most of the way
+// back, its neighbours giving a little. Expected: the same balance as a linear least-squares
+// problem in each frame's angle off the truth x_i (x_0 = 0, the gauge): E_L's eight links
+// sqrt(100 / 8) (x_{a+1} - x_a - m_a) with m_3 = 3, m_4 = -3, and E_V's seven triples
+// sqrt(100 / 7) (x_{b+1} - 2 x_b + x_{b-1}). At the truth E_V costs nothing.
+TEST(SolvePoses, SteadyMotionTurnsBackAFrameThatOneWrongPairTurned) {
+  const int n = 9;
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(0.02, Eigen::Vector3d(0.2, 1, 0.1).normalized()));
+  PoseVector truth(n);
+  for (int i = 1; i < n; ++i) {
+    truth[i].rotation = truth[i - 1].rotation * turn;
+    truth[i].translation = truth[i - 1].translation + Eigen::Vector3d(0.01, 0.002, -0.004);
+  }
+  const int bad = 4;
+  PoseVector measured = truth;  // what the odometry says
+  measured[bad].rotation = truth[bad].rotation * Eigen::AngleAxisd(3.0 * M_PI / 180, Eigen::Vector3d::UnitZ());
+  auto links = [n](const PoseVector& poses) {
+    std::vector<RelativePoseConstraint> local;
+    for (int a = 0; a + 1 < n; ++a) {
+      const Rigid3d a_from_b = poses[a].ToRigid().inverse() * poses[a + 1].ToRigid();
+      local.push_back({a, a + 1, Eigen::Quaterniond(a_from_b.linear()), a_from_b.translation(), 1.0});
+    }
+    return local;
+  };
+  std::vector<SteadyMotionConstraint> steady;
+  for (int b = 1; b + 1 < n; ++b) steady.push_back({b - 1, b, b + 1, 1.0, 1.0});
+
+  PoseVector poses = truth;
+  SolveSummary s = SolvePoses({{}, links(truth), {}, {}, steady}, {}, &poses);
+  EXPECT_LT(s.cost_before.at("E_V"), 1e-20);
+
+  SolverOptions options;
+  options.solve = SolveMode::kConverge;
+  options.weight_inertia = 1e-9;
+  options.weight_velocity = 0;
+  poses = measured;
+  SolvePoses({{}, links(measured), {}, {}, steady}, options, &poses);
+  EXPECT_NEAR(poses[bad].rotation.angularDistance(truth[bad].rotation) * 180 / M_PI, 3.0, 1e-3);
+
+  options.weight_velocity = 100;  // the default, as E_L's
+  poses = measured;
+  s = SolvePoses({{}, links(measured), {}, {}, steady}, options, &poses);
+  EXPECT_GT(s.cost_before.at("E_V"), s.cost_after.at("E_V"));
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n - 3, n - 1);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * n - 3);
+  auto column = [](int frame) { return frame - 1; };  // x_0 is held at 0
+  for (int k = 0; k + 1 < n; ++k) {
+    const double w = std::sqrt(100.0 / 8);
+    a(k, column(k + 1)) = w;
+    if (k > 0) a(k, column(k)) = -w;
+    rhs(k) = w * (k == bad - 1 ? 3.0 : k == bad ? -3.0 : 0.0);
+  }
+  for (int b = 1; b + 1 < n; ++b) {
+    const double w = std::sqrt(100.0 / 7);
+    const int row = n - 1 + b - 1;
+    a(row, column(b + 1)) = w;
+    a(row, column(b)) = -2 * w;
+    if (b - 1 > 0) a(row, column(b - 1)) = w;
+  }
+  const Eigen::VectorXd expected = a.colPivHouseholderQr().solve(rhs);
+  EXPECT_NEAR(expected(column(bad)), 1.27, 0.01);
+  for (int i = 1; i < n; ++i) {
+    EXPECT_NEAR(poses[i].rotation.angularDistance(truth[i].rotation) * 180 / M_PI, std::abs(expected(column(i))), 0.01)
+        << "frame " << i;
+  }
 }
 
 TEST(SolvePoses, OneGaussNewtonStepReducesTheCost) {

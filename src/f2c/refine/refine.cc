@@ -83,6 +83,7 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
   const WindowSchedule schedule(options.windows, path);
   Constraints constraints;
   constraints.local = LocalConstraints(pairs, options.local);
+  constraints.steady_motion = SteadyMotionConstraints(t0.timestamps, options.steady_motion);
   std::vector<double> confidence;
   std::vector<int> link_from;  // each frame's odometry reference
   for (const PairAlignment& p : pairs) {
@@ -130,6 +131,7 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     s.full = schedule.Full(it);
     s.polish = schedule.Polishing(it);
     s.local_constraints = static_cast<int>(constraints.local.size());
+    s.velocity_constraints = static_cast<int>(constraints.steady_motion.size());
 
     const PoseVector before = result.poses;
     // New SIFT loops first: when matches were accepted, the poses they imply (with E_L and
@@ -153,7 +155,8 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
       }
       SolverOptions graph = options.solver;
       graph.solve = SolveMode::kConverge;
-      s.presolve = SolvePoses({{}, constraints.local, constraints.matches, {}}, graph, &result.poses);
+      s.presolve = SolvePoses({{}, constraints.local, constraints.matches, {}, constraints.steady_motion}, graph,
+                              &result.poses);
       s.seconds_loops += presolve.Seconds();
     }
 
@@ -240,6 +243,7 @@ nlohmann::json ToJson(const IterationSummary& s) {
           {"correspondences", ToJson(s.correspondences)},
           {"sift_loops", ToJson(s.loops)},
           {"local_constraints", s.local_constraints},
+          {"velocity_constraints", s.velocity_constraints},
           {"weights", {{"E_C", s.weight_correspondence},
                        {"E_P", s.weight_proxy},
                        {"E_H", s.weight_coplanarity},

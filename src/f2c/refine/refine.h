@@ -8,10 +8,11 @@
 //              now share a window, verified
 //     H      = ProxyHierarchy(windows_i, poses)      children, coplanar parents per window
 //     G      = DetectRelations(H)                    parallel / antiparallel / orthogonal
-//     poses, planes = argmin w_C E_C + w_L E_L + w_I E_I + w_M E_M
+//     poses, planes = argmin w_C E_C + w_L E_L + w_I E_I + w_M E_M + w_V E_V
 //                            + w_P E_P + w_H E_H + w_G E_G          (optim/problem.h)
 //
-// E_L's constraints come from the odometry once (refine/local_alignment.h). Everything is
+// E_L's constraints come from the odometry once (refine/local_alignment.h), E_V's from the
+// time stamps (refine/steady_motion.h). Everything is
 // rebuilt from the current poses each iteration, seeded, so the result does not depend on
 // the thread count.
 
@@ -29,6 +30,7 @@
 #include "f2c/refine/pairs.h"
 #include "f2c/refine/relations.h"
 #include "f2c/refine/sift_loops.h"
+#include "f2c/refine/steady_motion.h"
 #include "f2c/refine/windows.h"
 #include "f2c/util/fields.h"
 
@@ -40,6 +42,7 @@ struct RefineOptions {
   PairOptions pairs;
   CorrespondenceOptions correspondences;
   LocalAlignmentOptions local;
+  SteadyMotionOptions steady_motion;
   SiftLoopOptions loops;
   SolverOptions solver;
   // The planar structural model (E_P, E_H, E_G), register --structure. Off by default for
@@ -91,6 +94,7 @@ struct RefineOptions {
     F2C_FIELD(v, weight_correspondence_initial, "--weight-correspondence-initial", AnyFinite(),
               "w_C in the first iteration, linear to --weight-correspondence in the last (the authors: 1500); < 0: constant");
     F2C_NESTED(v, local);
+    F2C_NESTED(v, steady_motion);
     F2C_NESTED(v, solver);
     v.Group("Refinement: planar structure (paper 4.2-4.3)");
     F2C_FIELD(v, structure, "--structure,!--no-structure", {},
@@ -127,6 +131,7 @@ struct IterationSummary {
   CorrespondenceStats correspondences;
   SiftLoopStats loops;
   int local_constraints = 0;
+  int velocity_constraints = 0;  // E_V's triples
   double weight_correspondence = 0;
   double weight_proxy = 0, weight_coplanarity = 0, weight_relation = 0;
   double relation_loss_scale_deg = 0;  // E_G's Cauchy scale this iteration (0: least squares)

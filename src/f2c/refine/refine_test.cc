@@ -90,7 +90,7 @@ Rigid3d SmallMotion(double metres, double degrees) {
 }
 
 // 30 frames (3 s of walking in the first room) with T0 several centimetres off, and the
-// options under which the correspondences alone decide (E_L and E_I off, silhouettes out:
+// options under which the correspondences alone decide (E_L, E_V and E_I off, silhouettes out:
 // they lie up to a grid cell off the true contour; planes and creases are exact).
 struct ExactRoom {
   SimScan scan = MakeScan(90, 3);
@@ -99,6 +99,7 @@ struct ExactRoom {
   RefineOptions options;
   ExactRoom() {
     options.solver.weight_local = 1e-6;
+    options.solver.weight_velocity = 0;
     options.solver.weight_inertia = 1e-9;
     options.correspondences.type_weights[static_cast<int>(FeatureType::kSilhouette)] = 0;
     options.correspondences.per_frame = 300;

@@ -1,0 +1,34 @@
+#include "f2c/refine/steady_motion.h"
+
+#include <algorithm>
+
+namespace f2c {
+
+void SteadyMotionOptions::Check() const { CheckFields(*this); }
+
+std::vector<SteadyMotionConstraint> SteadyMotionConstraints(const std::vector<double>& timestamps,
+                                                            const SteadyMotionOptions& options) {
+  options.Check();
+  std::vector<SteadyMotionConstraint> out;
+  const int n = static_cast<int>(timestamps.size());
+  if (n < 3) return out;
+  std::vector<double> intervals;
+  for (int k = 1; k < n; ++k) {
+    const double dt = timestamps[k] - timestamps[k - 1];
+    if (dt > 0) intervals.push_back(dt);
+  }
+  if (intervals.empty()) return out;
+  std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
+  const double median = intervals[intervals.size() / 2];
+  auto usable = [&](double dt) { return dt > 0 && dt <= options.max_gap * median; };
+  for (int k = 1; k + 1 < n; ++k) {
+    const double ab = timestamps[k] - timestamps[k - 1];
+    const double bc = timestamps[k + 1] - timestamps[k];
+    if (!usable(ab) || !usable(bc)) continue;
+    const double unit = 1.0 / options.reference_rate;
+    out.push_back({k - 1, k, k + 1, unit / ab, unit / bc});
+  }
+  return out;
+}
+
+}  // namespace f2c
