@@ -48,7 +48,7 @@ struct RefineOptions {
   // The planar structural model (E_P, E_H, E_G), register --structure. Off by default for
   // now: measured (BENCHMARKS.md), it lowers rotation drift and error on simulated multi-room
   // walks and helps 7-Scenes redkitchen a little, but costs accuracy on TUM fr1/xyz
-  // (0.0118 -> 0.0121 m ATE: the sensor's views of one plane disagree on its tilt, and E_H
+  // (0.0114 -> 0.0117 m ATE: the sensor's views of one plane disagree on its tilt, and E_H
   // pulls the poses to make them agree) and time.
   bool structure = false;
   HierarchyOptions hierarchy;
