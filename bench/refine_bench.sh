@@ -22,7 +22,8 @@ results="$work/results.txt"
 
 variants=(
   "default|"
-  "paper: no SIFT loops, no polish|--no-sift-loops --polish-iterations 0"
+  "paper: no SIFT loops, no polish, no E_V|--no-sift-loops --polish-iterations 0 --weight-velocity 0"
+  "no steady motion (E_V)|--weight-velocity 0"
   "no SIFT loops|--no-sift-loops"
   "no polish iterations|--polish-iterations 0"
   "windows by path (authors)|--windows path"

@@ -37,8 +37,9 @@ rows="$work/rows.tsv"  # kind, dataset label, variant, kept folder
 [ -x "$bin" ] || { echo "error: $bin not found: run bash scripts/build.sh first" >&2; exit 1; }
 
 ablations=(
-  "the paper's algorithm only|--no-sift-loops --polish-iterations 0"
+  "the paper's algorithm only|--no-sift-loops --polish-iterations 0 --weight-velocity 0"
   "no SIFT loops|--no-sift-loops"
+  "no steady motion (E_V)|--weight-velocity 0"
   "no polish iterations|--polish-iterations 0"
   "no fine-to-coarse windows|--no-fine-to-coarse"
   "with the structural model|--structure"
