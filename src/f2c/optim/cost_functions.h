@@ -165,12 +165,12 @@ struct SteadyMotionCost {
   }
 
  private:
-  // The rotation vector (axis times angle, the short way round) of a unit quaternion, by
-  // Ceres' QuaternionToAngleAxis (order w, x, y, z; exact derivatives at zero).
+  // The rotation vector (axis times angle) of a unit quaternion, by Ceres'
+  // QuaternionToAngleAxis (order w, x, y, z; it takes the short way round for w < 0 and has
+  // exact derivatives at zero).
   template <typename T>
   static Eigen::Matrix<T, 3, 1> RotationVector(const Eigen::Quaternion<T>& q) {
-    const T sign = q.w() < T(0) ? T(-1) : T(1);
-    const T wxyz[4] = {sign * q.w(), sign * q.x(), sign * q.y(), sign * q.z()};
+    const T wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
     Eigen::Matrix<T, 3, 1> v;
     ceres::QuaternionToAngleAxis(wxyz, v.data());
     return v;

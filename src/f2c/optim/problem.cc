@@ -248,11 +248,11 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   // E_V: steady motion over consecutive frames, w_V / (number of triples) each; rotations
   // at the lever arm.
   const std::vector<SteadyMotionConstraint>& steady = constraints.steady_motion;
+  const double w_v = steady.empty() ? 0.0 : options.weight_velocity / static_cast<double>(steady.size());
   for (const SteadyMotionConstraint& v : steady) {
-    if (options.weight_velocity == 0) break;
+    if (w_v == 0) break;
     F2C_CHECK(v.frame_a >= 0 && v.frame_a < n && v.frame_b >= 0 && v.frame_b < n && v.frame_c >= 0 && v.frame_c < n,
               "steady-motion frames in range");
-    const double w = options.weight_velocity / static_cast<double>(steady.size());
     Pose& pa = (*poses)[v.frame_a];
     Pose& pb = (*poses)[v.frame_b];
     Pose& pc = (*poses)[v.frame_c];
@@ -261,9 +261,9 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
     if (options.velocity_loss_scale > 0) {
       // The weight after the loss, so its scale stays in metres.
       pp.Add(kTermV, SteadyMotionCost::Create(v.scale_ab, v.scale_bc, 1.0, options.rotation_lever_arm),
-             pp.Loss(RobustLoss::kCauchy, options.velocity_loss_scale, w, kTermV), std::move(b));
+             pp.Loss(RobustLoss::kCauchy, options.velocity_loss_scale, w_v, kTermV), std::move(b));
     } else {
-      const double s = std::sqrt(w);
+      const double s = std::sqrt(w_v);
       pp.Add(kTermV, SteadyMotionCost::Create(v.scale_ab, v.scale_bc, s, s * options.rotation_lever_arm), nullptr,
              std::move(b));
     }

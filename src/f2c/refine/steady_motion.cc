@@ -21,11 +21,11 @@ std::vector<SteadyMotionConstraint> SteadyMotionConstraints(const std::vector<do
   std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
   const double median = intervals[intervals.size() / 2];
   auto usable = [&](double dt) { return dt > 0 && dt <= options.max_gap * median; };
+  const double unit = 1.0 / options.reference_rate;
   for (int k = 1; k + 1 < n; ++k) {
     const double ab = timestamps[k] - timestamps[k - 1];
     const double bc = timestamps[k + 1] - timestamps[k];
     if (!usable(ab) || !usable(bc)) continue;
-    const double unit = 1.0 / options.reference_rate;
     out.push_back({k - 1, k, k + 1, unit / ab, unit / bc});
   }
   return out;
