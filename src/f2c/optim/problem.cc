@@ -97,6 +97,18 @@ class PoseProblem {
     if (!slot) slot = MakeLoss(type, scale, weight);
     return slot.get();
   }
+  // A term's weight, least squares or through a Cauchy loss of `cauchy_scale` (0: none): the
+  // factor its functor scales the residuals by, and the loss. Under a loss the weight comes
+  // after it (a ScaledLoss) and the functor's factor is 1, so the scale stays in the
+  // residual's own units (metres, radians).
+  struct Weighting {
+    double sqrt_weight;
+    ceres::LossFunction* loss;
+  };
+  Weighting Weigh(double weight, double cauchy_scale, const std::string& term) {
+    if (cauchy_scale > 0) return {1.0, Loss(RobustLoss::kCauchy, cauchy_scale, weight, term)};
+    return {std::sqrt(weight), nullptr};
+  }
   // Each term's cost, 1/2 sum of robustified squares (as Ceres counts it), the blocks in
   // parallel: the cost functions are evaluated directly (no Jacobians), which reads the
   // parameters and changes nothing, where Problem::EvaluateResidualBlock refreshes its blocks'
@@ -232,17 +244,10 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   for (const RelativePoseConstraint& l : local) {
     if (options.weight_local == 0 || sum_l <= 0) break;
     F2C_CHECK(l.frame_a >= 0 && l.frame_a < n && l.frame_b >= 0 && l.frame_b < n, "local frames in range");
-    const double w = options.weight_local * l.weight / sum_l;
-    if (options.local_loss_scale > 0) {
-      // The weight after the loss, so its scale stays in metres.
-      pp.Add(kTermL, RelativePoseCost::Create(l.rotation_a_from_b, l.translation_a_from_b, 1.0, options.rotation_lever_arm),
-             pp.Loss(RobustLoss::kCauchy, options.local_loss_scale, w, kTermL), blocks(l.frame_a, l.frame_b));
-    } else {
-      const double s = std::sqrt(w);
-      pp.Add(kTermL,
-             RelativePoseCost::Create(l.rotation_a_from_b, l.translation_a_from_b, s, s * options.rotation_lever_arm),
-             nullptr, blocks(l.frame_a, l.frame_b));
-    }
+    const auto [s, loss] = pp.Weigh(options.weight_local * l.weight / sum_l, options.local_loss_scale, kTermL);
+    pp.Add(kTermL,
+           RelativePoseCost::Create(l.rotation_a_from_b, l.translation_a_from_b, s, s * options.rotation_lever_arm),
+           loss, blocks(l.frame_a, l.frame_b));
   }
 
   // E_V: steady motion over consecutive frames, w_V / (number of triples) each; rotations
@@ -258,15 +263,9 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
     Pose& pc = (*poses)[v.frame_c];
     std::vector<double*> b{pa.rotation_data(), pa.translation_data(), pb.rotation_data(),
                            pb.translation_data(), pc.rotation_data(), pc.translation_data()};
-    if (options.velocity_loss_scale > 0) {
-      // The weight after the loss, so its scale stays in metres.
-      pp.Add(kTermV, SteadyMotionCost::Create(v.scale_ab, v.scale_bc, 1.0, options.rotation_lever_arm),
-             pp.Loss(RobustLoss::kCauchy, options.velocity_loss_scale, w_v, kTermV), std::move(b));
-    } else {
-      const double s = std::sqrt(w_v);
-      pp.Add(kTermV, SteadyMotionCost::Create(v.scale_ab, v.scale_bc, s, s * options.rotation_lever_arm), nullptr,
-             std::move(b));
-    }
+    const auto [s, loss] = pp.Weigh(w_v, options.velocity_loss_scale, kTermV);
+    pp.Add(kTermV, SteadyMotionCost::Create(v.scale_ab, v.scale_bc, s, s * options.rotation_lever_arm), loss,
+           std::move(b));
   }
 
   // E_M: SIFT matches, w_M / n each, robustified, batched per frame pair.
@@ -326,21 +325,12 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       F2C_CHECK(l.child >= 0 && l.child < static_cast<int>(children.size()) && l.parent >= 0 &&
                     l.parent < static_cast<int>(parents.size()),
                 "coplanarity link in range");
-      const double w = options.weight_coplanarity * l.weight / sum_h;
       PlaneVariable& c = children[l.child];
       PlaneVariable& p = parents[l.parent];
-      if (options.coplanarity_loss_scale > 0) {
-        // The weight after the loss, so its scale stays in metres.
-        pp.AddStructure(kTermH,
-                        CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, 1.0, c.reference, p.reference),
-                        pp.Loss(RobustLoss::kCauchy, options.coplanarity_loss_scale, w, kTermH),
-                        {c.normal.data(), &c.offset, p.normal.data(), &p.offset});
-      } else {
-        pp.AddStructure(kTermH,
-                        CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, std::sqrt(w), c.reference,
-                                                p.reference),
-                        nullptr, {c.normal.data(), &c.offset, p.normal.data(), &p.offset});
-      }
+      const auto [s, loss] =
+          pp.Weigh(options.weight_coplanarity * l.weight / sum_h, options.coplanarity_loss_scale, kTermH);
+      pp.AddStructure(kTermH, CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, s, c.reference, p.reference),
+                      loss, {c.normal.data(), &c.offset, p.normal.data(), &p.offset});
     }
     // E_G: w_G w_ab / sum(w) per relation.
     double sum_g = 0;
@@ -350,15 +340,11 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       F2C_CHECK(r.parent_a >= 0 && r.parent_a < static_cast<int>(parents.size()) && r.parent_b >= 0 &&
                     r.parent_b < static_cast<int>(parents.size()) && r.parent_a != r.parent_b,
                 "relation parents in range");
-      const double w = options.weight_relation * r.weight / sum_g;
-      // Robust: the weight after the loss, so its scale stays an angle.
-      const bool robust = options.relation_loss_scale_deg > 0;
-      const double s = robust ? 1.0 : std::sqrt(w);
+      const auto [s, loss] =
+          pp.Weigh(options.weight_relation * r.weight / sum_g, options.relation_loss_scale_deg * M_PI / 180, kTermG);
       ceres::CostFunction* cost = r.type == RelationType::kOrthogonal
                                       ? OrthogonalCost::Create(s)
                                       : ParallelCost::Create(r.type == RelationType::kParallel ? 1.0 : -1.0, s);
-      ceres::LossFunction* loss =
-          robust ? pp.Loss(RobustLoss::kCauchy, options.relation_loss_scale_deg * M_PI / 180, w, kTermG) : nullptr;
       pp.AddStructure(kTermG, cost, loss, {parents[r.parent_a].normal.data(), parents[r.parent_b].normal.data()});
     }
   }
