@@ -67,13 +67,9 @@ struct SolverOptions {
   double velocity_loss_scale = 0.0;
   double match_loss_scale = 0.05;  // metres
   // Cauchy scale of E_H's residuals (metres, tilts at the lever arm; 0: least squares, the
-  // paper's): a child whose image fitted one plane to two surfaces (a wall and the face of
-  // the next one a few centimetres behind it: 1.4-1.7 deg off on the simulator) pulls with
-  // 1 / (1 + (r / scale)^2) of its force, and no longer turns its frame by most of that.
-  // Views that agree (r of a few millimetres) pull as in least squares. Measured over three
-  // correspondence seeds (BENCHMARKS.md, eleventh stop): the worst drift falls on every
-  // simulated scene and both real sequences gain.
-  double coplanarity_loss_scale = 0.005;
+  // paper's): a child far off its parent pulls with 1 / (1 + (r / scale)^2) of its force. The
+  // refinement sets it in its polish iterations (refine/refine.h).
+  double coplanarity_loss_scale = 0.0;
   // Cauchy scale of E_G's residuals (degrees; 0: least squares). Each relation's residual is
   // about its angle off the relation (radians), so a relation that is only nearly met (a
   // corner at 84 degrees) pulls with 1 / (1 + (off / scale)^2) of the force a met one does.

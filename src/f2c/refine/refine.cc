@@ -211,6 +211,12 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
       solver.relation_loss_scale_deg = polish_scale;
     }
     s.relation_loss_scale_deg = solver.relation_loss_scale_deg;
+    const double polish_coplanarity = options.polish_coplanarity_loss_scale;
+    if (s.polish && polish_coplanarity > 0 &&
+        (solver.coplanarity_loss_scale == 0 || polish_coplanarity < solver.coplanarity_loss_scale)) {
+      solver.coplanarity_loss_scale = polish_coplanarity;
+    }
+    s.coplanarity_loss_scale = solver.coplanarity_loss_scale;
     s.solve = SolvePoses(constraints, solver, &result.poses);
     s.seconds_solve = stage.Seconds();
     PoseChange(before, result.poses, &s);
@@ -249,6 +255,7 @@ nlohmann::json ToJson(const IterationSummary& s) {
                        {"E_H", s.weight_coplanarity},
                        {"E_G", s.weight_relation}}},
           {"relation_loss_scale_deg", s.relation_loss_scale_deg},
+          {"coplanarity_loss_scale_m", s.coplanarity_loss_scale},
           {"hierarchy", ToJson(s.hierarchy)},
           {"child_normal_spread_deg", s.child_normal_spread_deg},
           {"coplanarity_noise_factor", s.coplanarity_noise_factor},

@@ -241,9 +241,18 @@ TEST_F(RefineOnAWalk, StructureStraightensRotationDrift) {
   for (const IterationSummary& s : with.iterations) {
     polishing += s.polish;
     EXPECT_EQ(s.relation_loss_scale_deg, s.polish ? options.polish_relation_loss_scale_deg : 0.0) << s.iteration;
+    EXPECT_EQ(s.coplanarity_loss_scale, 0.0) << s.iteration;  // E_H least squares throughout, the paper's
   }
   EXPECT_GT(polishing, 0);
   EXPECT_LT(polishing, static_cast<int>(with.iterations.size()));
+  // --polish-coplanarity-loss-scale puts E_H through its loss in the polish iterations only.
+  options.structure = true;
+  options.polish_coplanarity_loss_scale = 0.005;
+  const RefineResult robust = RefineFineToCoarse(index, pairs, t0, scan_->intrinsics, options, run);
+  for (const IterationSummary& s : robust.iterations) {
+    EXPECT_EQ(s.coplanarity_loss_scale, s.polish ? 0.005 : 0.0) << s.iteration;
+  }
+  EXPECT_LT(ComputeRotationDrift(ToTrajectory(t0, robust.poses), scan_->truth).rotation.max, 0.5);
   std::printf("rotation drift worst / RMS (deg): T0 %.2f / %.2f, structure %.3f / %.3f, no structure %.3f / %.3f\n",
               before.rotation.max, before.rotation.rmse, on.rotation.max, on.rotation.rmse, off.rotation.max,
               off.rotation.rmse);
