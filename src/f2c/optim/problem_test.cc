@@ -288,6 +288,33 @@ TEST(SolvePoses, OneGaussNewtonStepReducesTheCost) {
 // Its children fit its image (E_P), each child has its own parent (E_H), and one antiparallel
 // relation joins the parents (E_G): the relation alone can turn frame 1 back. Without it
 // (w_G = 0) frame 1 stays where it started. Fails if E_G, E_H or E_P do nothing.
+// A child proxy of `frame` from a 2 m x 1.5 m wall patch: the points world(y, z), y in
+// [-1, 1] and z in [0.5, 2] m every 0.25 m, seen from `pose`; `normal` is the patch's own
+// (world coordinates).
+template <class WorldPoint>
+ChildProxy PatchChild(int frame, const Pose& pose, const Eigen::Vector3d& normal, WorldPoint world) {
+  ChildProxy c;
+  c.frame = frame;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d sum2 = Eigen::Matrix3d::Zero();
+  int m = 0;
+  for (double y = -1; y <= 1; y += 0.25) {
+    for (double z = 0.5; z <= 2; z += 0.25) {
+      const Eigen::Vector3d x = InCamera(pose, world(y, z));
+      sum += x;
+      sum2 += x * x.transpose();
+      ++m;
+    }
+  }
+  const Eigen::Vector3d centroid = sum / m;
+  c.centroid = centroid.cast<float>();
+  c.covariance = (sum2 / m - centroid * centroid.transpose()).cast<float>();
+  c.normal = (pose.rotation.conjugate() * normal).cast<float>();
+  c.offset = c.normal.dot(c.centroid);
+  c.share = static_cast<float>(m);
+  return c;
+}
+
 TEST(SolvePoses, ARelationBetweenParentsTurnsAFrameBack) {
   PoseVector truth(2);
   truth[0].translation = Eigen::Vector3d(1.5, 0, 1.2);
@@ -298,28 +325,9 @@ TEST(SolvePoses, ARelationBetweenParentsTurnsAFrameBack) {
   const double offsets[2] = {0.0, -3.0};
   Constraints constraints;
   for (int f = 0; f < 2; ++f) {
-    // The wall's members, in frame f's camera: a 2 m x 1.5 m patch.
-    ChildProxy c;
-    c.frame = f;
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d sum2 = Eigen::Matrix3d::Zero();
-    int m = 0;
-    for (double y = -1; y <= 1; y += 0.25) {
-      for (double z = 0.5; z <= 2; z += 0.25) {
-        const Eigen::Vector3d world(offsets[f] * normals[f].x(), y, z);
-        const Eigen::Vector3d x = InCamera(truth[f], world);
-        sum += x;
-        sum2 += x * x.transpose();
-        ++m;
-      }
-    }
-    const Eigen::Vector3d centroid = sum / m;
-    c.centroid = centroid.cast<float>();
-    c.covariance = (sum2 / m - centroid * centroid.transpose()).cast<float>();
-    c.normal = (truth[f].rotation.conjugate() * normals[f]).cast<float>();
-    c.offset = c.normal.dot(c.centroid);
-    c.share = static_cast<float>(m);
-    constraints.structure.children.push_back(c);
+    // The wall's members, in frame f's camera.
+    constraints.structure.children.push_back(PatchChild(
+        f, truth[f], normals[f], [&](double y, double z) { return Eigen::Vector3d(offsets[f] * normals[f].x(), y, z); }));
   }
   PoseVector start = truth;
   start[1].rotation = Eigen::AngleAxisd(2 * M_PI / 180, Eigen::Vector3d::UnitZ()) * truth[1].rotation;
@@ -389,28 +397,10 @@ TEST(SolvePoses, RobustCoplanarityLetsAMisfittedChildGo) {
   // `tilt` about the vertical, as a merged proxy would.
   auto child = [&](int f, double tilt_deg) {
     const Eigen::Matrix3d turn = Eigen::AngleAxisd(tilt_deg * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    ChildProxy c;
-    c.frame = f;
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d sum2 = Eigen::Matrix3d::Zero();
-    int m = 0;
-    for (double y = -1; y <= 1; y += 0.25) {
-      for (double z = 0.5; z <= 2; z += 0.25) {
-        const Eigen::Vector3d on_wall(0, truth[f].translation.y() + y, z);
-        const Eigen::Vector3d centre(0, truth[f].translation.y(), 1.25);
-        const Eigen::Vector3d x = InCamera(truth[f], centre + turn * (on_wall - centre));
-        sum += x;
-        sum2 += x * x.transpose();
-        ++m;
-      }
-    }
-    const Eigen::Vector3d centroid = sum / m;
-    c.centroid = centroid.cast<float>();
-    c.covariance = (sum2 / m - centroid * centroid.transpose()).cast<float>();
-    c.normal = (truth[f].rotation.conjugate() * (turn * Eigen::Vector3d::UnitX())).cast<float>();
-    c.offset = c.normal.dot(c.centroid);
-    c.share = static_cast<float>(m);
-    return c;
+    const Eigen::Vector3d centre(0, truth[f].translation.y(), 1.25);
+    return PatchChild(f, truth[f], turn * Eigen::Vector3d::UnitX(), [&](double y, double z) -> Eigen::Vector3d {
+      return centre + turn * (Eigen::Vector3d(0, truth[f].translation.y() + y, z) - centre);
+    });
   };
   auto make = [&](double tilt_deg) {
     Constraints constraints;
