@@ -283,11 +283,6 @@ TEST(SolvePoses, OneGaussNewtonStepReducesTheCost) {
   EXPECT_LT(s.cost_after.at("E_C"), 0.05 * s.cost_before.at("E_C"));
 }
 
-// The structural model on its own: frame 0 sees the wall x = 0, frame 1 the facing wall
-// x = 3, and nothing else ties them. Frame 1 starts turned 2 degrees about the vertical.
-// Its children fit its image (E_P), each child has its own parent (E_H), and one antiparallel
-// relation joins the parents (E_G): the relation alone can turn frame 1 back. Without it
-// (w_G = 0) frame 1 stays where it started. Fails if E_G, E_H or E_P do nothing.
 // A child proxy of `frame` from a 2 m x 1.5 m wall patch: the points world(y, z), y in
 // [-1, 1] and z in [0.5, 2] m every 0.25 m, seen from `pose`; `normal` is the patch's own
 // (world coordinates).
@@ -315,6 +310,11 @@ ChildProxy PatchChild(int frame, const Pose& pose, const Eigen::Vector3d& normal
   return c;
 }
 
+// The structural model on its own: frame 0 sees the wall x = 0, frame 1 the facing wall
+// x = 3, and nothing else ties them. Frame 1 starts turned 2 degrees about the vertical.
+// Its children fit its image (E_P), each child has its own parent (E_H), and one antiparallel
+// relation joins the parents (E_G): the relation alone can turn frame 1 back. Without it
+// (w_G = 0) frame 1 stays where it started. Fails if E_G, E_H or E_P do nothing.
 TEST(SolvePoses, ARelationBetweenParentsTurnsAFrameBack) {
   PoseVector truth(2);
   truth[0].translation = Eigen::Vector3d(1.5, 0, 1.2);
