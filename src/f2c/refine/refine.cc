@@ -204,18 +204,14 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     // keypoint, colour and depth not always registered) are less precise than they are, and
     // by then the loops they closed are within the correspondences' reach.
     if (s.polish && !options.loops.in_polish) constraints.matches.clear();
-    // The tighter of the two losses: --relation-loss-scale may already ask for one.
-    const double polish_scale = options.polish_relation_loss_scale_deg;
-    if (s.polish && polish_scale > 0 &&
-        (solver.relation_loss_scale_deg == 0 || polish_scale < solver.relation_loss_scale_deg)) {
-      solver.relation_loss_scale_deg = polish_scale;
-    }
+    // In the polish iterations, the tighter of the two losses: --relation-loss-scale or
+    // --coplanarity-loss-scale may already ask for one in every iteration (0: none).
+    auto tighten = [&](double polish_scale, double* scale) {
+      if (s.polish && polish_scale > 0 && (*scale == 0 || polish_scale < *scale)) *scale = polish_scale;
+    };
+    tighten(options.polish_relation_loss_scale_deg, &solver.relation_loss_scale_deg);
+    tighten(options.polish_coplanarity_loss_scale, &solver.coplanarity_loss_scale);
     s.relation_loss_scale_deg = solver.relation_loss_scale_deg;
-    const double polish_coplanarity = options.polish_coplanarity_loss_scale;
-    if (s.polish && polish_coplanarity > 0 &&
-        (solver.coplanarity_loss_scale == 0 || polish_coplanarity < solver.coplanarity_loss_scale)) {
-      solver.coplanarity_loss_scale = polish_coplanarity;
-    }
     s.coplanarity_loss_scale = solver.coplanarity_loss_scale;
     s.solve = SolvePoses(constraints, solver, &result.poses);
     s.seconds_solve = stage.Seconds();
