@@ -76,8 +76,29 @@ int DepthConstraints::Degenerate(double threshold) const {
   return n;
 }
 
-DepthConstraints AnalyseDepthConstraints(const cv::Mat& depth, const CameraIntrinsics& k, int stride) {
+DepthConstraints FromInformation(const Eigen::Matrix<double, 6, 6>& information, double mean_depth, int samples) {
   DepthConstraints out;
+  out.information = information;
+  out.mean_depth = mean_depth;
+  out.samples = samples;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(information);
+  out.eigenvalues = eigen.eigenvalues();
+  out.eigenvectors = eigen.eigenvectors();
+  return out;
+}
+
+DepthConstraints DepthConstraints::Along(const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions) const {
+  const Eigen::Matrix<double, 6, 6> p = directions * directions.transpose();
+  return FromInformation(p * information * p, mean_depth, samples);
+}
+
+DepthConstraints AnalyseDepthConstraints(const cv::Mat& depth, const CameraIntrinsics& k, int stride) {
+  return AnalyseViewConstraints(depth, cv::Mat(), k, stride, 0.0).depth;
+}
+
+ViewConstraints AnalyseViewConstraints(const cv::Mat& depth, const cv::Mat& gray, const CameraIntrinsics& k,
+                                       int stride, double min_gradient) {
+  ViewConstraints out;
   // Normals from the depth averaged over (2 stride + 1)^2 pixels (invalid pixels left out):
   // raw depth noise (1-2 cm at 3 m) over a few pixels would tilt them by tens of degrees and
   // invent constraints a plain wall does not give.
@@ -96,7 +117,20 @@ DepthConstraints AnalyseDepthConstraints(const cv::Mat& depth, const CameraIntri
     *p = k.Unproject(u, v, z);
     return true;
   };
+  CV_Assert(gray.empty() || (gray.type() == CV_8UC1 && gray.size() == depth.size()));
+  cv::Mat smooth;
+  if (!gray.empty()) cv::GaussianBlur(gray, smooth, cv::Size(7, 7), 1.0, 1.0, cv::BORDER_REPLICATE);
+  // The unit gradient direction at (u, v), where the gradient is strong enough to measure.
+  auto gradient = [&](int u, int v, Eigen::Vector2d* g) {
+    if (smooth.empty() || u < 1 || v < 1 || u + 1 >= smooth.cols || v + 1 >= smooth.rows) return false;
+    const auto at = [&](int x, int y) { return static_cast<double>(smooth.at<uint8_t>(y, x)); };
+    *g = Eigen::Vector2d(at(u + 1, v) - at(u - 1, v), at(u, v + 1) - at(u, v - 1)) / 2.0;
+    if (!(g->norm() >= min_gradient) || g->norm() <= 0) return false;
+    g->normalize();
+    return true;
+  };
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> samples;  // point, normal
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> sideways;  // point, a_i (header)
   double depth_sum = 0;
   for (int v = h; v + h < depth.rows; v += stride) {
     for (int u = h; u + h < depth.cols; u += stride) {
@@ -110,21 +144,25 @@ DepthConstraints AnalyseDepthConstraints(const cv::Mat& depth, const CameraIntri
       n.normalize();
       samples.push_back({p, n});
       depth_sum += p.z();
+      Eigen::Vector2d g;
+      if (gradient(u, v, &g)) sideways.push_back({p, {g.x(), g.y(), -(g.x() * p.x() + g.y() * p.y()) / p.z()}});
     }
   }
-  out.samples = static_cast<int>(samples.size());
   if (samples.empty()) return out;
-  out.mean_depth = depth_sum / samples.size();
-  Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
-  for (const auto& [p, n] : samples) {
-    Eigen::Matrix<double, 6, 1> j;
-    j << p.cross(n) / out.mean_depth, n;
-    hessian += j * j.transpose();
-  }
-  hessian /= static_cast<double>(samples.size());
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(hessian);
-  out.eigenvalues = eigen.eigenvalues();
-  out.eigenvectors = eigen.eigenvectors();
+  const double mean_depth = depth_sum / samples.size();
+  // H = sum J_i^T J_i / N over one kind of row.
+  auto information = [&](const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& rows) {
+    Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Zero();
+    for (const auto& [p, n] : rows) {
+      Eigen::Matrix<double, 6, 1> j;
+      j << p.cross(n) / mean_depth, n;
+      h += j * j.transpose();
+    }
+    return Eigen::Matrix<double, 6, 6>(h / static_cast<double>(samples.size()));
+  };
+  const int n = static_cast<int>(samples.size());
+  out.depth = FromInformation(information(samples), mean_depth, n);
+  out.image = FromInformation(information(sideways), mean_depth, n);
   return out;
 }
 

@@ -1,13 +1,15 @@
 #pragma once
-// Depth-only alignment for pairs SIFT cannot align (textureless views): point-to-plane ICP
-// (OpenCV rgbd's ICPOdometry, KinectFusion-style, on an image pyramid) started from the
-// previous motion; and a depth-overlap score that measures any pair's alignment.
+// Depth alignment for pairs SIFT cannot align (textureless views): point-to-plane ICP (OpenCV
+// rgbd's ICPOdometry, KinectFusion-style, on an image pyramid) started from the previous
+// motion; the motions a view's depth (and image) constrain; and a depth-overlap score that
+// measures any pair's alignment.
 
 #include <opencv2/core.hpp>
 #include <vector>
 
 #include "f2c/geometry/intrinsics.h"
 #include "f2c/geometry/rigid.h"
+#include "f2c/odometry/photometric.h"
 #include "f2c/util/fields.h"
 
 namespace f2c {
@@ -31,6 +33,17 @@ struct IcpOptions {
   // direction. A plain wall's tilts score 0.06-0.12 and its distance 1, its slides 0. 0: off.
   double prior_information = 0.01;
   int degeneracy_stride = 8;  // pixels between the reference depth samples it looks at
+  // A wall the depth leaves free may still show texture SIFT does not key on (mottled
+  // plaster, low-contrast paint). Where the depth leaves directions to the prior, the fused
+  // answer is refined along them by dense photometric alignment (photometric.h), and each
+  // reference sample whose grey-level gradient (Gaussian sigma 1 px, central differences) is
+  // at least min_gradient adds the constraint the image puts on the sideways motion of its
+  // point (AnalyseViewConstraints), which decides how much of it is kept. On the simulated
+  // walks a flat-colour wall's noise gradients reach 1 grey level per pixel at 1% of its
+  // pixels; mottled plaster exceeds 2 at a quarter of them.
+  bool photometric = true;
+  double min_gradient = 2.0;  // grey levels per pixel
+  PhotometricOptions dense;
 
   template <class V>
   void Fields(V& v) {
@@ -47,6 +60,11 @@ struct IcpOptions {
               "ICP keeps lambda / (lambda + this) of its motion along each direction the depth constrains by "
               "lambda, the motion prior the rest (0: ICP alone)");
     F2C_FIELD(v, degeneracy_stride, "", AtLeast(1), "pixels between the depth samples of the degeneracy check");
+    F2C_FIELD(v, photometric, "!--no-icp-photometric", {},
+              "where the depth leaves motions free, never align the grey images too");
+    F2C_FIELD(v, min_gradient, "--icp-min-gradient", Positive(),
+              "grey-level gradient (per pixel) at which a sample's intensity constrains the motion");
+    F2C_NESTED(v, dense);
   }
   void Check() const;
 };
@@ -63,18 +81,37 @@ bool AlignDepthIcp(const cv::Mat& source_depth, const cv::Mat& target_depth,
 // J_i (w L, v), J_i = [(p_i x n_i) / L, n_i]. H = sum J_i^T J_i / N; its eigenvectors with
 // eigenvalue >= threshold are the constrained directions (in (w L, v) units).
 struct DepthConstraints {
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();  // H
   Eigen::Matrix<double, 6, 1> eigenvalues = Eigen::Matrix<double, 6, 1>::Zero();  // ascending
   Eigen::Matrix<double, 6, 6> eigenvectors = Eigen::Matrix<double, 6, 6>::Identity();  // columns
   double mean_depth = 1.0;  // L
   int samples = 0;
   int Degenerate(double threshold) const;  // eigenvalues below threshold (diagnostics)
+  // The information H' = P H P along the span of `directions` (orthonormal columns, P their
+  // projector) and none across it.
+  DepthConstraints Along(const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions) const;
 };
 DepthConstraints AnalyseDepthConstraints(const cv::Mat& depth, const CameraIntrinsics& intrinsics, int stride);
+
+// What the grey image adds, at the same samples and in the same units (H sums over the
+// depth's N): each sample whose gradient direction g (unit, in the image) has magnitude >=
+// min_gradient (grey levels per pixel, after a Gaussian blur of 1 px) gives the row [(p_i x
+// a_i) / L, a_i], a_i = (g_x, g_y, -(g_x x_i + g_y y_i) / z_i): a_i . dp is the sideways
+// displacement along g (metres at the point's depth) that moving the point by dp makes its
+// projection show, the one motion intensity measures there. Unit-weighted like the depth rows,
+// a wall textured all over constrains its slides and its turn about the normal about as
+// strongly as its depth constrains its distance.
+struct ViewConstraints {
+  DepthConstraints depth, image;
+};
+ViewConstraints AnalyseViewConstraints(const cv::Mat& depth, const cv::Mat& gray, const CameraIntrinsics& intrinsics,
+                                       int stride, double min_gradient);
 
 // `icp` (reference_from_frame) fused with `prior`: the left difference icp * prior^-1, in
 // (w L, v) units, keeps lambda_i / (lambda_i + prior_information) of its component along each
 // eigenvector i of `constraints`, and is applied to prior. Where the geometry is silent
-// (lambda 0) the prior stands; where it constrains (lambda >> prior_information), ICP.
+// (lambda 0) the prior stands; where it constrains (lambda >> prior_information), ICP. (The
+// same fusion keeps the photometric step where the image constrains it: odometry.cc.)
 Rigid3d ConstrainToGeometry(const Rigid3d& icp, const Rigid3d& prior, const DepthConstraints& constraints,
                             double prior_information);
 

@@ -2,12 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include <opencv2/imgproc.hpp>
+
 #include "f2c/testing/synthetic_scene.h"
 
 namespace f2c {
 namespace {
 
 using testing::Render;
+using testing::RenderedFrame;
 using testing::SyntheticScene;
 using testing::TestIntrinsics;
 
@@ -91,6 +94,35 @@ TEST(ConstrainToGeometry, KeepsIcpWhereTheGeometryConstrainsItAndThePriorElsewhe
   EXPECT_GT(RotationAngle(prior.linear().transpose() * truth.linear()) * 180 / M_PI, 1.0);
   // No prior information: ICP stands.
   EXPECT_EQ(ConstrainToGeometry(icp, prior, wall, 0.0).matrix(), icp.matrix());
+}
+
+cv::Mat Gray(const cv::Mat& color) {
+  cv::Mat gray;
+  cv::cvtColor(color, gray, cv::COLOR_BGR2GRAY);
+  return gray;
+}
+
+// Facing the back wall from 1.5 m: a textured one constrains every motion once its image is
+// counted; a plain one still leaves the slides and the turn about the normal free.
+TEST(AnalyseViewConstraints, CountsTheMotionsTheImageGradientsConstrain) {
+  const auto k = TestIntrinsics();
+  const Rigid3d pose = Pose(M_PI, {0.0, 0.0, -1.0});
+  const double threshold = IcpOptions().prior_information, min_gradient = IcpOptions().min_gradient;
+  SyntheticScene textured;
+  const RenderedFrame view = Render(textured, k, pose);
+  const ViewConstraints textured_wall = AnalyseViewConstraints(view.depth, Gray(view.color), k, 8, min_gradient);
+  const DepthConstraints depth = textured_wall.depth;
+  EXPECT_EQ(depth.Degenerate(threshold), 3);
+  EXPECT_EQ(depth.eigenvalues, AnalyseDepthConstraints(view.depth, k, 8).eigenvalues);
+  // Along the three motions the depth leaves free, the texture constrains all three.
+  const DepthConstraints image = textured_wall.image.Along(depth.eigenvectors.leftCols(3));
+  EXPECT_EQ(image.Degenerate(threshold), 3);  // only the three across the span: no information
+  EXPECT_GT(image.eigenvalues(3), 2 * threshold);
+  SyntheticScene plain;
+  plain.textured = false;
+  const RenderedFrame flat = Render(plain, k, pose);
+  const ViewConstraints flat_wall = AnalyseViewConstraints(flat.depth, Gray(flat.color), k, 8, min_gradient);
+  EXPECT_EQ(flat_wall.image.Degenerate(threshold), 6);
 }
 
 }  // namespace

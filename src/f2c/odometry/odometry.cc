@@ -104,36 +104,50 @@ bool NeedsFallback(const PairAlignment& pair, const OdometryOptions& options) {
 }
 
 // For a pair SIFT could not align, or whose SIFT answer the depth images contradict
-// (fitness below min_fitness): depth-only ICP from the previous motion. Keeps whichever of
-// the SIFT answer, the ICP answer and the previous motion the depth images agree with most
-// (SIFT wins ties).
-void ApplyFallback(const cv::Mat& depth_prev, const cv::Mat& depth_curr, const CameraIntrinsics& k,
+// (fitness below min_fitness): depth-only ICP from the previous motion, refined by intensity
+// along the motions the depth leaves free where the grey images are given (IcpOptions).
+// Keeps whichever of the SIFT answer, the ICP answer and the previous motion the depth images
+// agree with most (SIFT wins ties).
+void ApplyFallback(const FrameImages& prev, const FrameImages& curr, const CameraIntrinsics& k,
                    const OdometryOptions& options, const Rigid3d& previous_motion,
                    StageClock* clock, PairAlignment* pair) {
+  const IcpOptions& o = options.icp;
   PairAlignment best = *pair;
   if (pair->method != AlignmentMethod::kSift) {
     best.method = AlignmentMethod::kMotionPrior;
     best.prev_from_curr = previous_motion;
-    ScoreOverlap(depth_prev, depth_curr, k, options, clock, &best);
+    ScoreOverlap(prev.depth, curr.depth, k, options, clock, &best);
   }
   if (options.icp_fallback) {
     Timer timer;
     PairAlignment icp = *pair;
     icp.prev_from_curr = previous_motion;
-    const bool ok = AlignDepthIcp(depth_curr, depth_prev, k, previous_motion, options.icp, &icp.prev_from_curr);
+    const bool ok = AlignDepthIcp(curr.depth, prev.depth, k, previous_motion, o, &icp.prev_from_curr);
     clock->icp += timer.Seconds();
-    if (ok && options.icp.prior_information > 0) {
+    if (ok && o.prior_information > 0) {
       // Where the reference's geometry leaves ICP free (a plain wall), keep the previous motion.
       timer.Restart();
-      const DepthConstraints constraints = AnalyseDepthConstraints(depth_prev, k, options.icp.degeneracy_stride);
-      icp.degenerate = constraints.Degenerate(options.icp.prior_information);
-      icp.prev_from_curr =
-          ConstrainToGeometry(icp.prev_from_curr, previous_motion, constraints, options.icp.prior_information);
+      const bool photometric = o.photometric && !prev.gray.empty() && !curr.gray.empty();
+      const ViewConstraints view = AnalyseViewConstraints(prev.depth, photometric ? prev.gray : cv::Mat(), k,
+                                                          o.degeneracy_stride, o.min_gradient);
+      icp.prev_from_curr = ConstrainToGeometry(icp.prev_from_curr, previous_motion, view.depth, o.prior_information);
+      icp.degenerate = view.depth.Degenerate(o.prior_information);
+      if (photometric && icp.degenerate > 0) {
+        // ...unless its image measures them: the fused answer refined along them by intensity,
+        // and kept as far as the image's information along them says.
+        const Eigen::Matrix<double, 6, Eigen::Dynamic> free = view.depth.eigenvectors.leftCols(icp.degenerate);
+        Rigid3d refined = icp.prev_from_curr;
+        if (AlignPhotometric(prev.gray, prev.depth, curr.gray, k, free, view.depth.mean_depth, o.dense, &refined).ok) {
+          const DepthConstraints image = view.image.Along(free);
+          icp.prev_from_curr = ConstrainToGeometry(refined, icp.prev_from_curr, image, o.prior_information);
+          icp.degenerate = image.Degenerate(o.prior_information) - (6 - icp.degenerate);  // the zeros across
+        }
+      }
       clock->icp += timer.Seconds();
     }
     if (ok) {
       icp.method = AlignmentMethod::kIcp;
-      ScoreOverlap(depth_prev, depth_curr, k, options, clock, &icp);
+      ScoreOverlap(prev.depth, curr.depth, k, options, clock, &icp);
       if (best.method == AlignmentMethod::kMotionPrior || icp.fitness > best.fitness) best = icp;
     }
   }
@@ -180,16 +194,15 @@ void CopyTimings(const StageClock& clock, OdometryTimings* t) {
 namespace {
 
 struct FrameData {
-  cv::Mat depth;
+  FrameImages images;
   SiftFeatures sift;
   bool loaded = false;
 };
 
 void LoadFrame(const RgbdSequence& seq, int index, const OdometryOptions& options, StageClock* clock,
                FrameData* data) {
-  cv::Mat gray;
-  DecodeFrame(seq, index, clock, &data->depth, &gray);
-  data->sift = DescribeFrame(gray, data->depth, *seq.intrinsics, options, clock);
+  DecodeFrame(seq, index, clock, &data->images.depth, &data->images.gray);
+  data->sift = DescribeFrame(data->images.gray, data->images.depth, *seq.intrinsics, options, clock);
   data->loaded = true;
 }
 
@@ -205,7 +218,7 @@ PairAlignment AlignPair(const cv::Mat& gray_prev, const cv::Mat& depth_prev,
   PairAlignment pair = AlignSift(prev, curr, options, seed, &clock);
   if (pair.method == AlignmentMethod::kSift) ScoreOverlap(depth_prev, depth_curr, intrinsics, options, &clock, &pair);
   if (NeedsFallback(pair, options)) {
-    ApplyFallback(depth_prev, depth_curr, intrinsics, options, previous_motion, &clock, &pair);
+    ApplyFallback({depth_prev, gray_prev}, {depth_curr, gray_curr}, intrinsics, options, previous_motion, &clock, &pair);
   }
   return pair;
 }
@@ -289,7 +302,7 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
       if (needed && !frames[i].loaded) {
         LoadFrame(seq, f, options, &clock, &frames[i]);
         ++frames_processed;
-        if (run.on_depth) run.on_depth(f, frames[i].depth);
+        if (run.on_depth) run.on_depth(f, frames[i].images.depth);
         if (run.on_sift) run.on_sift(f, frames[i].sift);
       }
     });
@@ -300,7 +313,7 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
       pair.frame = k;
       pair.reference = k - 1;
       if (pair.method == AlignmentMethod::kSift) {
-        ScoreOverlap(frames[k - 1 - begin].depth, frames[k - begin].depth, *seq.intrinsics, options, &clock, &pair);
+        ScoreOverlap(frames[k - 1 - begin].images.depth, frames[k - begin].images.depth, *seq.intrinsics, options, &clock, &pair);
       }
     });
     // Fallbacks in frame order, so each starts from the final previous motion.
@@ -308,7 +321,7 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
       PairAlignment& pair = odometry.pairs[k - 1];
       if (!have[k - 1] && NeedsFallback(pair, options)) {
         const Rigid3d previous = k > 1 ? odometry.pairs[k - 2].prev_from_curr : Rigid3d::Identity();
-        ApplyFallback(frames[k - 1 - begin].depth, frames[k - begin].depth, *seq.intrinsics, options,
+        ApplyFallback(frames[k - 1 - begin].images, frames[k - begin].images, *seq.intrinsics, options,
                       previous, &clock, &pair);
       }
       if (!have[k - 1]) progress.Advance();

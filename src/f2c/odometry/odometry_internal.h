@@ -28,9 +28,15 @@ void ScoreOverlap(const cv::Mat& depth_prev, const cv::Mat& depth_curr, const Ca
 // Whether a SIFT (or tracked) answer needs checking against ICP.
 bool NeedsFallback(const PairAlignment& pair, const OdometryOptions& options);
 
-// Depth-only ICP from `previous_motion`; keeps whichever of the pair's answer, ICP's and the
-// previous motion the depth images agree with most (see odometry.cc).
-void ApplyFallback(const cv::Mat& depth_prev, const cv::Mat& depth_curr, const CameraIntrinsics& k,
+// A frame's depth (metres) and grey image (8-bit; may be empty: depth alone is used).
+struct FrameImages {
+  cv::Mat depth, gray;
+};
+
+// Depth ICP from `previous_motion` (refined by intensity where the depth leaves motions
+// free); keeps whichever of the pair's answer, ICP's and the previous motion the
+// depth images agree with most (see odometry.cc).
+void ApplyFallback(const FrameImages& prev, const FrameImages& curr, const CameraIntrinsics& k,
                    const OdometryOptions& options, const Rigid3d& previous_motion, StageClock* clock,
                    PairAlignment* pair);
 

@@ -18,6 +18,7 @@ TrackingKeyframe MakeTrackingKeyframe(int frame, const cv::Mat& gray, cv::Mat de
   k.sift = std::move(sift);
   cv::buildOpticalFlowPyramid(gray, k.pyramid, cv::Size(options.window, options.window), options.pyramid_levels);
   k.depth = std::move(depth);
+  k.gray = gray;
   return k;
 }
 

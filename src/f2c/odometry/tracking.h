@@ -52,6 +52,7 @@ struct TrackingKeyframe {
   SiftFeatures sift;            // keypoints (pixels) and their 3D points
   std::vector<cv::Mat> pyramid;  // cv::buildOpticalFlowPyramid of its grey image
   cv::Mat depth;                // metres
+  cv::Mat gray;                 // 8-bit (the depth fallback's photometric alignment)
 };
 
 TrackingKeyframe MakeTrackingKeyframe(int frame, const cv::Mat& gray, cv::Mat depth, SiftFeatures sift,

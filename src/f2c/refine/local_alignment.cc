@@ -22,7 +22,7 @@ double PairConfidence(const PairAlignment& pair, const LocalAlignmentOptions& o)
     case AlignmentMethod::kTrack:
       c = 1.0 / (1.0 + std::exp(-o.inlier_slope * (pair.inliers - o.inlier_midpoint)));
       break;
-    case AlignmentMethod::kIcp: c = o.icp_weight; break;
+    case AlignmentMethod::kIcp: c = pair.degenerate == 0 ? o.icp_measured_weight : o.icp_weight; break;
     case AlignmentMethod::kMotionPrior: return o.prior_weight;
   }
   const double ramp = std::clamp((pair.fitness - o.fitness_low) / (o.fitness_high - o.fitness_low), o.min_ramp, 1.0);

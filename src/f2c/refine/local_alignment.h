@@ -5,7 +5,9 @@
 // trajectory keeps its local shape. Each is weighted by how much the odometry trusted the
 // alignments on the path between the two frames in the tree of odometry references
 // (odometry.json), the weakest link deciding:
-//   confidence(pair) = method factor (SIFT 1, ICP fallback icp_weight, motion prior
+//   confidence(pair) = method factor (SIFT 1; ICP fallback icp_weight, or
+//                      icp_measured_weight where the depth or the image measured every
+//                      direction of its motion (odometry.json's degenerate 0); motion prior
 //                      prior_weight)
 //                    x sigmoid(inlier_slope (inliers - inlier_midpoint))   (SIFT pairs; the
 //                      authors' sigmoid of the SIFT inliers)
@@ -32,6 +34,11 @@ struct LocalAlignmentOptions {
   // little, and the refined poses were no steadier from frame to frame than T0.
   int max_power = 0;
   double icp_weight = 0.3;
+  // An ICP pair left nothing to the prediction (a corner's three planes, or the photometric
+  // refinement along what the depth left free, docs/odometry.md) is a measurement like a
+  // SIFT pair's. Measured (BENCHMARKS.md, "Twelfth stop"): 0.3 for these too left the runs
+  // of frames facing a mottled wall bent by up to 1 deg.
+  double icp_measured_weight = 1.0;
   double prior_weight = 0.01;
   double inlier_midpoint = 5;
   double inlier_slope = 0.5;
@@ -50,6 +57,8 @@ struct LocalAlignmentOptions {
     v.Group("Refinement: energy and solver (paper 4.3)");
     F2C_FIELD(v, max_power, "--local-max-power", Between(0, 20), "E_L between frames j and j + 2^k, k <= this");
     F2C_FIELD(v, icp_weight, "--local-icp-weight", Between(0, 1), "E_L confidence of ICP-fallback pairs (SIFT pairs up to 1)");
+    F2C_FIELD(v, icp_measured_weight, "--local-icp-measured-weight", Between(0, 1),
+              "...of ICP-fallback pairs with no direction left to the prediction");
     F2C_FIELD(v, prior_weight, "--local-prior-weight", Between(0, 1), "E_L confidence of motion-prior pairs");
     F2C_FIELD(v, inlier_midpoint, "", AnyFinite(), "SIFT confidence: logistic midpoint in inliers");
     F2C_FIELD(v, inlier_slope, "", AtLeast(0), "...and its slope");

@@ -13,6 +13,7 @@ PairAlignment Pair(int frame, AlignmentMethod method, int inliers, double fitnes
   p.method = method;
   p.inliers = inliers;
   p.fitness = fitness;
+  if (method == AlignmentMethod::kIcp) p.degenerate = 3;  // a plain wall's: two slides and a turn left free
   p.prev_from_curr.translation() = Eigen::Vector3d(x, 0, 0);
   p.prev_from_curr.linear() = Eigen::AngleAxisd(0.01 * frame, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   return p;
@@ -28,6 +29,15 @@ TEST(PairConfidence, SiftIcpPriorAndFitness) {
   // Fitness 0.5 is a quarter of the way from 0.4 to 0.8; below 0.4 the floor of 0.05.
   EXPECT_NEAR(PairConfidence(Pair(1, AlignmentMethod::kSift, 100, 0.5, 0), o), 0.25, 1e-9);
   EXPECT_NEAR(PairConfidence(Pair(1, AlignmentMethod::kIcp, 0, 0.1, 0), o), 0.3 * 0.05, 1e-12);
+  // An ICP pair whose every direction the depth or the image measured counts like a SIFT pair.
+  PairAlignment measured = Pair(1, AlignmentMethod::kIcp, 0, 1.0, 0);
+  measured.degenerate = 0;
+  EXPECT_NEAR(PairConfidence(measured, o), 1.0, 1e-12);
+  measured.fitness = 0.5;
+  EXPECT_NEAR(PairConfidence(measured, o), 0.25, 1e-12);
+  LocalAlignmentOptions half;
+  half.icp_measured_weight = 0.5;
+  EXPECT_NEAR(PairConfidence(measured, half), 0.125, 1e-12);
 }
 
 TEST(LocalConstraints, PowersOfTwoChainedWithTheWeakestLink) {
