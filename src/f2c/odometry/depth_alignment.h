@@ -40,8 +40,10 @@ struct IcpOptions {
   // at least min_gradient adds the constraint the image puts on the sideways motion of its
   // point (AnalyseViewConstraints), which decides how much of it is kept. On the simulated
   // walks a flat-colour wall's noise gradients reach 1 grey level per pixel at 1% of its
-  // pixels; mottled plaster exceeds 2 at a quarter of them.
-  bool photometric = true;
+  // pixels; mottled plaster exceeds 2 at a quarter of them. Off by default: on the 900-frame
+  // walks it lowers the worst drift, but on the 5,000-frame walk a run of frames facing one
+  // wall leaves its place by 0.2-0.7 m in the refinement (BENCHMARKS.md, "Twelfth stop").
+  bool photometric = false;
   double min_gradient = 2.0;  // grey levels per pixel
   PhotometricOptions dense;
 
@@ -60,8 +62,8 @@ struct IcpOptions {
               "ICP keeps lambda / (lambda + this) of its motion along each direction the depth constrains by "
               "lambda, the motion prior the rest (0: ICP alone)");
     F2C_FIELD(v, degeneracy_stride, "", AtLeast(1), "pixels between the depth samples of the degeneracy check");
-    F2C_FIELD(v, photometric, "!--no-icp-photometric", {},
-              "where the depth leaves motions free, never align the grey images too");
+    F2C_FIELD(v, photometric, "--icp-photometric,!--no-icp-photometric", {},
+              "where the depth leaves motions free, measure them by photometric alignment");
     F2C_FIELD(v, min_gradient, "--icp-min-gradient", Positive(),
               "grey-level gradient (per pixel) at which a sample's intensity constrains the motion");
     F2C_NESTED(v, dense);

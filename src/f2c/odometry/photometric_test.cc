@@ -10,18 +10,6 @@
 namespace f2c {
 namespace {
 
-using testing::Render;
-using testing::RenderedFrame;
-using testing::SyntheticScene;
-using testing::TestIntrinsics;
-
-Rigid3d Pose(double yaw, const Eigen::Vector3d& t) {
-  Rigid3d pose = Rigid3d::Identity();
-  pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  pose.translation() = t;
-  return pose;
-}
-
 Rigid3d Exp(const Eigen::Vector3d& w, const Eigen::Vector3d& v) {
   Rigid3d t = Rigid3d::Identity();
   if (w.norm() > 0) t.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
@@ -42,18 +30,19 @@ double Degrees(const Rigid3d& a, const Rigid3d& b) {
 // A camera 1.5 m from the room's textured back wall, and a second view of it: the depth leaves
 // the slides in the wall and the turn about its normal free.
 struct WallPair {
-  CameraIntrinsics k = TestIntrinsics();
+  CameraIntrinsics k = testing::TestIntrinsics();
   Rigid3d truth = Exp({0.004, -0.006, 0.015}, {0.03, -0.02, 0.01});  // reference_from_frame
-  RenderedFrame reference, frame;
+  testing::RenderedFrame reference, frame;
   Eigen::Matrix<double, 6, Eigen::Dynamic> free;
   double lever = 1;
 
   explicit WallPair(bool textured = true) {
-    SyntheticScene scene;
+    testing::SyntheticScene scene;
     scene.textured = textured;
-    const Rigid3d world_from_reference = Pose(M_PI, {0.0, 0.0, -1.0});
-    reference = Render(scene, k, world_from_reference);
-    frame = Render(scene, k, world_from_reference * truth);
+    // Turned to face the back wall (-z), 1.5 m from it.
+    const Rigid3d world_from_reference = Exp({0.0, M_PI, 0.0}, {0.0, 0.0, -1.0});
+    reference = testing::Render(scene, k, world_from_reference);
+    frame = testing::Render(scene, k, world_from_reference * truth);
     const DepthConstraints depth = AnalyseDepthConstraints(reference.depth, k, 8);
     free = depth.eigenvectors.leftCols(depth.Degenerate(IcpOptions().prior_information));
     lever = depth.mean_depth;
