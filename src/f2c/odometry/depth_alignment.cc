@@ -181,14 +181,7 @@ Rigid3d ConstrainToGeometry(const Rigid3d& icp, const Rigid3d& prior, const Dept
     const double share = std::max(c.eigenvalues(i), 0.0) / (std::max(c.eigenvalues(i), 0.0) + prior_information);
     kept += share * c.eigenvectors.col(i) * c.eigenvectors.col(i).dot(delta);
   }
-  const Eigen::Vector3d w_kept = kept.head<3>() / c.mean_depth;
-  const Eigen::Matrix3d r_kept = w_kept.norm() > 0
-                                     ? Eigen::AngleAxisd(w_kept.norm(), w_kept.normalized()).toRotationMatrix()
-                                     : Eigen::Matrix3d::Identity();
-  Rigid3d out = Rigid3d::Identity();
-  out.linear() = r_kept * prior.linear();
-  out.translation() = r_kept * prior.translation() + kept.tail<3>();
-  return out;
+  return ExpScaled(kept, c.mean_depth) * prior;
 }
 
 DepthOverlap MeasureDepthOverlap(const cv::Mat& source_depth, const cv::Mat& target_depth,

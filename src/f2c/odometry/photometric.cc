@@ -30,10 +30,12 @@ struct Level {
   cv::Mat image, dx, dy;
 };
 
-Level MakeLevel(const cv::Mat& gray, double sigma) {
+// The gradient only where it is sampled: the frame's image, not the reference's.
+Level MakeLevel(const cv::Mat& gray, double sigma, bool gradient) {
   Level l;
   gray.convertTo(l.image, CV_32F);
   if (sigma > 0) cv::GaussianBlur(l.image, l.image, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
+  if (!gradient) return l;
   // Central differences: (I(u + 1) - I(u - 1)) / 2.
   const cv::Mat kx = (cv::Mat_<float>(1, 3) << -0.5f, 0.0f, 0.5f);
   cv::filter2D(l.image, l.dx, CV_32F, kx, cv::Point(-1, -1), 0, cv::BORDER_REPLICATE);
@@ -50,14 +52,6 @@ bool Sample(const cv::Mat& m, double x, double y, double* value) {
   const float* r1 = m.ptr<float>(y0 + 1);
   *value = (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
   return true;
-}
-
-Rigid3d Exp(const Eigen::Matrix<double, 6, 1>& scaled, double lever) {
-  const Eigen::Vector3d w = scaled.head<3>() / lever;
-  Rigid3d t = Rigid3d::Identity();
-  if (w.norm() > 0) t.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
-  t.translation() = scaled.tail<3>();
-  return t;
 }
 
 struct Point {
@@ -110,6 +104,14 @@ Normal Accumulate(const std::vector<Point>& points, const Level& frame, const Ca
 
 }  // namespace
 
+Rigid3d ExpScaled(const Eigen::Matrix<double, 6, 1>& scaled, double lever) {
+  const Eigen::Vector3d w = scaled.head<3>() / lever;
+  Rigid3d t = Rigid3d::Identity();
+  if (w.norm() > 0) t.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+  t.translation() = scaled.tail<3>();
+  return t;
+}
+
 PhotometricResult AlignPhotometric(const cv::Mat& reference_gray, const cv::Mat& reference_depth,
                                    const cv::Mat& frame_gray, const CameraIntrinsics& k,
                                    const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions, double lever,
@@ -136,8 +138,8 @@ PhotometricResult AlignPhotometric(const cv::Mat& reference_gray, const cv::Mat&
   };
   auto rmse = [](const Normal& n) { return n.n > 0 ? std::sqrt(n.sum_sq / n.n) : 0.0; };
   for (int level = 0; level < levels; ++level) {
-    const Level ref = MakeLevel(reference_gray, options.blur_sigmas[level]);
-    const Level frame = MakeLevel(frame_gray, options.blur_sigmas[level]);
+    const Level ref = MakeLevel(reference_gray, options.blur_sigmas[level], false);
+    const Level frame = MakeLevel(frame_gray, options.blur_sigmas[level], true);
     const std::vector<Point> points = points_of(ref, options.strides[level]);
     const bool finest = level + 1 == levels;
     if (finest) {
@@ -150,7 +152,7 @@ PhotometricResult AlignPhotometric(const cv::Mat& reference_gray, const cv::Mat&
     for (int it = 0; it < options.iterations && normal.n > m; ++it) {
       const Eigen::VectorXd step = normal.h.ldlt().solve(-normal.g);
       if (!step.allFinite()) break;
-      const Rigid3d next = Exp(directions * step.head(m), lever) * t;
+      const Rigid3d next = ExpScaled(directions * step.head(m), lever) * t;
       const Normal after = Accumulate(points, frame, k, directions, lever, bias + step(m), options.huber, next);
       if (after.n <= m || after.sum_sq / after.n > normal.sum_sq / normal.n) break;  // no longer descending
       t = next;

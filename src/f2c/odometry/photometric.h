@@ -55,6 +55,10 @@ struct PhotometricResult {
   int samples = 0;                         // finest level
 };
 
+// The left increment (w L, v) as a transform: rotation by the vector w = (w L) / lever, then
+// translation by v (the units of B above and of ConstrainToGeometry).
+Rigid3d ExpScaled(const Eigen::Matrix<double, 6, 1>& scaled, double lever);
+
 // Refines *reference_from_frame (T_0 in, T out) along the columns of `directions`; `lever` is
 // L. Grey images 8-bit, depth CV_32F metres, all of one size. Leaves *reference_from_frame
 // alone and returns ok = false when there is nothing to align (no samples project into the
