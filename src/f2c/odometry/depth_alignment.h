@@ -40,10 +40,10 @@ struct IcpOptions {
   // at least min_gradient adds the constraint the image puts on the sideways motion of its
   // point (AnalyseViewConstraints), which decides how much of it is kept. On the simulated
   // walks a flat-colour wall's noise gradients reach 1 grey level per pixel at 1% of its
-  // pixels; mottled plaster exceeds 2 at a quarter of them. Off by default: on the 900-frame
-  // walks it lowers the worst drift, but on the 5,000-frame walk a run of frames facing one
-  // wall leaves its place by 0.2-0.7 m in the refinement (BENCHMARKS.md, "Twelfth stop").
-  bool photometric = false;
+  // pixels; mottled plaster exceeds 2 at a quarter of them. On since the loops' presolve
+  // keeps the better of two starts (refine/sift_loops.h): before, the 5,000-frame walk lost
+  // with it (BENCHMARKS.md, "Twelfth stop" and "Thirteenth stop").
+  bool photometric = true;
   double min_gradient = 2.0;  // grey levels per pixel
   PhotometricOptions dense;
 

@@ -127,7 +127,7 @@ TEST(AlignWithKeyframes, TexturelessFramesAreAlignedByIcp) {
 // Facing the textured back wall from 1.5 m, sliding 1.5 cm and rolling 0.4 deg per frame about
 // the wall's normal, with SIFT and tracking refused: depth ICP alone cannot see either
 // motion, and keeps the prediction (no motion before the first pair); the photometric
-// step (--icp-photometric) recovers both.
+// step (on by default) recovers both.
 TEST(AlignWithKeyframes, ATexturedWallsSlideIsRecoveredFromItsImage) {
   SyntheticScene scene;
   Poses poses;
@@ -143,7 +143,6 @@ TEST(AlignWithKeyframes, ATexturedWallsSlideIsRecoveredFromItsImage) {
   OdometryOptions options;
   options.min_inliers = 100000;
   options.keyframes.min_inliers = 100000;
-  options.icp.photometric = true;
   const Odometry odometry = AlignWithKeyframes(seq, options, Quiet());
   for (const PairAlignment& pair : odometry.pairs) {
     EXPECT_EQ(pair.method, AlignmentMethod::kIcp) << pair.frame;

@@ -36,10 +36,9 @@ struct LocalAlignmentOptions {
   double icp_weight = 0.3;
   // An ICP pair that left nothing to the prediction (a corner's three planes, or the
   // photometric step along what the depth left free, docs/odometry.md) is a measurement like
-  // a SIFT pair's. With the photometric step, 1 kept the runs of frames facing a mottled wall
-  // as T0 had them (0.3 left them bent by up to 1 deg), but together they lose the
-  // 5,000-frame walk (BENCHMARKS.md, "Twelfth stop"), so by default these weigh as any ICP pair.
-  double icp_measured_weight = 0.3;
+  // a SIFT pair's. Measured (BENCHMARKS.md, "Twelfth stop"): 0.3 for these too left the runs
+  // of frames facing a mottled wall bent by up to 1 deg.
+  double icp_measured_weight = 1.0;
   double prior_weight = 0.01;
   double inlier_midpoint = 5;
   double inlier_slope = 0.5;

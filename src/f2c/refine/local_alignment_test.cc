@@ -29,17 +29,17 @@ TEST(PairConfidence, SiftIcpPriorAndFitness) {
   // Fitness 0.5 is a quarter of the way from 0.4 to 0.8; below 0.4 the floor of 0.05.
   EXPECT_NEAR(PairConfidence(Pair(1, AlignmentMethod::kSift, 100, 0.5, 0), o), 0.25, 1e-9);
   EXPECT_NEAR(PairConfidence(Pair(1, AlignmentMethod::kIcp, 0, 0.1, 0), o), 0.3 * 0.05, 1e-12);
-  // An ICP pair whose every direction the depth or the image measured: as any ICP pair by
-  // default, with --local-icp-measured-weight 1 like a SIFT pair.
+  // An ICP pair whose every direction the depth or the image measured counts like a SIFT
+  // pair; one that left directions to the prediction stays at 0.3.
   PairAlignment measured = Pair(1, AlignmentMethod::kIcp, 0, 1.0, 0);
   measured.degenerate = 0;
-  EXPECT_NEAR(PairConfidence(measured, o), 0.3, 1e-12);
-  LocalAlignmentOptions trusted;
-  trusted.icp_measured_weight = 1.0;
-  EXPECT_NEAR(PairConfidence(measured, trusted), 1.0, 1e-12);
-  EXPECT_NEAR(PairConfidence(Pair(1, AlignmentMethod::kIcp, 0, 1.0, 0), trusted), 0.3, 1e-12);  // degenerate: still 0.3
+  EXPECT_NEAR(PairConfidence(measured, o), 1.0, 1e-12);
+  EXPECT_NEAR(PairConfidence(Pair(1, AlignmentMethod::kIcp, 0, 1.0, 0), o), 0.3, 1e-12);
   measured.fitness = 0.5;
-  EXPECT_NEAR(PairConfidence(measured, trusted), 0.25, 1e-12);
+  EXPECT_NEAR(PairConfidence(measured, o), 0.25, 1e-12);
+  LocalAlignmentOptions half;
+  half.icp_measured_weight = 0.5;
+  EXPECT_NEAR(PairConfidence(measured, half), 0.125, 1e-12);
 }
 
 TEST(LocalConstraints, PowersOfTwoChainedWithTheWeakestLink) {

@@ -45,6 +45,16 @@ double MatchError(const PoseVector& poses, const std::vector<PointMatch>& matche
   return e[k];
 }
 
+// A converged loop presolve's cost without E_I (each pose's change from where that solve
+// started, so two starts' E_I do not compare).
+double GraphCost(const SolveSummary& summary) {
+  double cost = 0;
+  for (const auto& [term, value] : summary.cost_after) {
+    if (term != "E_I") cost += value;
+  }
+  return cost;
+}
+
 }  // namespace
 
 void RefineOptions::Check() const {
@@ -150,13 +160,24 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
              options.loops.presolve_min_change ||
          MatchError(result.poses, constraints.matches) > options.loops.presolve_min_change)) {
       Timer presolve;
+      SolverOptions graph = options.solver;
+      graph.solve = SolveMode::kConverge;
+      const Constraints loop_graph{{}, constraints.local, constraints.matches, {}, constraints.steady_motion};
+      PoseVector current = result.poses;
       if (options.loops.spanning_tree) {
         result.poses = SpanningTreePoses(result.poses, confidence, loops.edges(), link_from);
       }
-      SolverOptions graph = options.solver;
-      graph.solve = SolveMode::kConverge;
-      s.presolve = SolvePoses({{}, constraints.local, constraints.matches, {}, constraints.steady_motion}, graph,
-                              &result.poses);
+      s.presolve = SolvePoses(loop_graph, graph, &result.poses);
+      s.presolve_start = options.loops.spanning_tree ? "tree" : "current";
+      if (options.loops.spanning_tree && options.loops.better_start) {
+        // E_I counts each pose's change from its own start, so the starts compare without it.
+        SolveSummary from_current = SolvePoses(loop_graph, graph, &current);
+        if (from_current.usable && GraphCost(from_current) < GraphCost(s.presolve)) {
+          result.poses = std::move(current);
+          s.presolve = from_current;
+          s.presolve_start = "current";
+        }
+      }
       s.seconds_loops += presolve.Seconds();
     }
 
@@ -257,6 +278,7 @@ nlohmann::json ToJson(const IterationSummary& s) {
           {"coplanarity_noise_factor", s.coplanarity_noise_factor},
           {"relations", ToJson(s.relations)},
           {"loop_presolve", s.presolve.termination.empty() ? nlohmann::json(nullptr) : ToJson(s.presolve)},
+          {"loop_presolve_start", s.presolve_start.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.presolve_start)},
           {"solve", ToJson(s.solve)},
           {"max_translation_change_m", s.max_translation_change},
           {"max_rotation_change_deg", s.max_rotation_change_deg},

@@ -18,6 +18,7 @@
 
 #include <functional>
 #include <nlohmann/json_fwd.hpp>
+#include <string>
 #include <vector>
 
 #include "f2c/features/feature_set.h"
@@ -155,6 +156,7 @@ struct IterationSummary {
   HierarchyStats hierarchy;
   RelationStats relations;
   SolveSummary presolve;  // when new SIFT loops were accepted (termination empty otherwise)
+  std::string presolve_start;  // where the kept presolve started: "tree" or "current"
   SolveSummary solve;
   double max_translation_change = 0;  // metres, over all poses
   double max_rotation_change_deg = 0;

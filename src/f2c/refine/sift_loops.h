@@ -63,6 +63,14 @@ struct SiftLoopOptions {
   // ...starting from poses re-placed along the maximum spanning tree of the odometry links
   // and the loops (refine/spanning_tree.h), loops trusted like this.
   bool spanning_tree = true;
+  // ...and also solved from the current poses, keeping whichever start ends at the lower
+  // E_L + E_M + E_V. The tree replaces the refined relative poses on every cycle's weakest
+  // link by a loop's single RANSAC estimate; where the odometry has few weak links (the
+  // photometric step measured a plain wall's slides), one imprecise loop then places a long
+  // stretch, and E_M's Cauchy loss no longer sees the loops that would bring it back:
+  // measured (BENCHMARKS.md, "The loop placement's two starts"), 5,000 frames with the
+  // photometric options 0.035 -> 0.0075 m ATE.
+  bool better_start = true;
   // Whether E_M stays in the polish iterations (refine/windows.h).
   bool in_polish = false;
   double loop_confidence = 0.95;
@@ -93,6 +101,8 @@ struct SiftLoopOptions {
     F2C_FIELD(v, presolve_min_change, "", AtLeast(0), "...when a pose or a match is off by more (m)");
     F2C_FIELD(v, spanning_tree, "--spanning-tree,!--no-spanning-tree", {},
               "re-place poses along the most trusted links when loops arrive");
+    F2C_FIELD(v, better_start, "--loop-better-start,!--no-loop-better-start", {},
+              "...and from the current poses, keeping the start that ends at the lower E_L + E_M + E_V");
     F2C_FIELD(v, in_polish, "--loop-in-polish", {}, "keep E_M in the polish iterations");
     F2C_FIELD(v, loop_confidence, "", Between(0, 1), "spanning tree: trust of a loop");
     F2C_FIELD(v, seed, "", {}, "seed of the loops' RANSAC");

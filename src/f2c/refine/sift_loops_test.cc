@@ -51,6 +51,39 @@ struct CornerLoop {
     }
   }
   std::vector<Keyframe> Keyframes() const { return {MakeKeyframe(0, a.sift, 300), MakeKeyframe(40, b.sift, 300)}; }
+  // A path from frame 0 to frame 40, evenly in translation and angle; T0 is such a path and
+  // the odometry pairs are its steps.
+  Trajectory Path(const Rigid3d& end) const {
+    Trajectory t;
+    const Eigen::Quaterniond q0(truth_a.linear()), q1(end.linear());
+    for (int k = 0; k < n; ++k) {
+      const double s = static_cast<double>(k) / (n - 1);
+      Rigid3d p = Rigid3d::Identity();
+      p.linear() = q0.slerp(s, q1).toRotationMatrix();
+      p.translation() = (1 - s) * truth_a.translation() + s * end.translation();
+      t.Add(0.1 * k, p);
+    }
+    return t;
+  }
+  static std::vector<PairAlignment> Pairs(const Trajectory& t) {
+    std::vector<PairAlignment> pairs;
+    for (int k = 1; k < n; ++k) {
+      PairAlignment p;
+      p.frame = k;
+      p.prev_from_curr = t.world_from_camera[k - 1].inverse() * t.world_from_camera[k];
+      p.inliers = 100;
+      p.fitness = 1.0;
+      pairs.push_back(p);
+    }
+    return pairs;
+  }
+  // Frame 40 relative to frame 0 against the truth: metres, degrees.
+  std::pair<double, double> RelativeError(const PoseVector& poses) const {
+    const Rigid3d expected = truth_a.inverse() * truth_b;
+    const Rigid3d found = poses[0].ToRigid().inverse() * poses[40].ToRigid();
+    return {(found.translation() - expected.translation()).norm(),
+            RotationAngle(found.linear() * expected.linear().transpose()) * 180 / M_PI};
+  }
 };
 
 // Keyframes 0 and 40 see the same textured corner of a room. Their current poses are 30 cm
@@ -102,74 +135,82 @@ TEST(SiftLoopMatcher, MatchesALoopWhenItsKeyframesFirstShareAWindow) {
 // left as they are (re-placing them would swap refined poses for one RANSAC estimate).
 TEST(SiftLoopMatcher, OnlyALoopThatDisagreesWithThePosesReplacesThem) {
   const CornerLoop scene;
-  const int n = CornerLoop::n;
-  const Rigid3d& truth_a = scene.truth_a;
-  const Rigid3d& truth_b = scene.truth_b;
   const FeatureIndex& index = scene.index;
-  // A path from frame 0 to frame 40, evenly in translation and angle; T0 is such a path and
-  // the odometry pairs are its steps.
-  auto path = [&](const Rigid3d& end) {
-    Trajectory t;
-    const Eigen::Quaterniond q0(truth_a.linear()), q1(end.linear());
-    for (int k = 0; k < n; ++k) {
-      const double s = static_cast<double>(k) / (n - 1);
-      Rigid3d p = Rigid3d::Identity();
-      p.linear() = q0.slerp(s, q1).toRotationMatrix();
-      p.translation() = (1 - s) * truth_a.translation() + s * end.translation();
-      t.Add(0.1 * k, p);
-    }
-    return t;
-  };
-  auto pairs_of = [&](const Trajectory& t) {
-    std::vector<PairAlignment> pairs;
-    for (int k = 1; k < n; ++k) {
-      PairAlignment p;
-      p.frame = k;
-      p.prev_from_curr = t.world_from_camera[k - 1].inverse() * t.world_from_camera[k];
-      p.inliers = 100;
-      p.fitness = 1.0;
-      pairs.push_back(p);
-    }
-    return pairs;
-  };
   RefineOptions options;
   options.windows.polish_iterations = 0;
   options.windows.extra_iterations = 0;
   RefineRun run;
   run.quiet = true;
   run.keep_iterations = true;
-  auto relative_error = [&](const PoseVector& poses) {
-    const Rigid3d expected = truth_a.inverse() * truth_b;
-    const Rigid3d found = poses[0].ToRigid().inverse() * poses[40].ToRigid();
-    return std::make_pair((found.translation() - expected.translation()).norm(),
-                          RotationAngle(found.linear() * expected.linear().transpose()) * 180 / M_PI);
-  };
   // Windows of 8, 16, 32, then 64 frames: frames 0 and 40 first share one in iteration 3.
   const int loop_iteration = 3;
 
-  const Trajectory drifted = path(scene.drifted_b);
+  const Trajectory drifted = scene.Path(scene.drifted_b);
   const RefineResult placed =
-      RefineFineToCoarse(index, pairs_of(drifted), drifted, testing::TestIntrinsics(), options, run, scene.Keyframes());
+      RefineFineToCoarse(index, CornerLoop::Pairs(drifted), drifted, testing::TestIntrinsics(), options, run, scene.Keyframes());
   ASSERT_GT(static_cast<int>(placed.iterations.size()), loop_iteration);
   for (int it = 0; it < loop_iteration; ++it) EXPECT_EQ(placed.iterations[it].loops.accepted, 0) << it;
   EXPECT_EQ(placed.iterations[loop_iteration].loops.accepted, 1);
   EXPECT_FALSE(placed.iterations[loop_iteration].presolve.termination.empty()) << "the loop disagrees: re-placed";
-  const auto [t_before, r_before] = relative_error(placed.iteration_poses[loop_iteration - 1]);
-  const auto [t_after, r_after] = relative_error(placed.iteration_poses[loop_iteration]);
+  const auto [t_before, r_before] = scene.RelativeError(placed.iteration_poses[loop_iteration - 1]);
+  const auto [t_after, r_after] = scene.RelativeError(placed.iteration_poses[loop_iteration]);
   EXPECT_GT(t_before, 0.2);
   EXPECT_GT(r_before, 10.0);
   EXPECT_LT(t_after, 0.015) << "frame 40 relative to frame 0 after the loop's iteration";
   EXPECT_LT(r_after, 1.0);
 
-  const Trajectory truth = path(truth_b);
+  const Trajectory truth = scene.Path(scene.truth_b);
   const RefineResult kept =
-      RefineFineToCoarse(index, pairs_of(truth), truth, testing::TestIntrinsics(), options, run, scene.Keyframes());
+      RefineFineToCoarse(index, CornerLoop::Pairs(truth), truth, testing::TestIntrinsics(), options, run, scene.Keyframes());
   ASSERT_GT(static_cast<int>(kept.iterations.size()), loop_iteration);
   EXPECT_EQ(kept.iterations[loop_iteration].loops.accepted, 1);
   EXPECT_TRUE(kept.iterations[loop_iteration].presolve.termination.empty()) << "the loop agrees: no re-placement";
-  const auto [t_kept, r_kept] = relative_error(kept.poses);
+  const auto [t_kept, r_kept] = scene.RelativeError(kept.poses);
   EXPECT_LT(t_kept, 0.005);
   EXPECT_LT(r_kept, 0.2);
+}
+
+// The loop's presolve from two starts (--loop-better-start): the spanning tree's poses and
+// the current ones. With a weak odometry link halfway (an ICP fallback that left a plain
+// wall's directions to the prediction) the tree cuts it and the loop places frames 20-40;
+// from the current poses the converged solve bends the links instead. The kept presolve is
+// whichever ends at the lower E_L + E_M + E_V: the same cost as the lower of the two
+// single-start runs (the tree only; the current poses only), and the same start.
+TEST(SiftLoopMatcher, TheLoopPresolveKeepsTheBetterOfTwoStarts) {
+  const CornerLoop scene;
+  const Trajectory drifted = scene.Path(scene.drifted_b);
+  std::vector<PairAlignment> pairs = CornerLoop::Pairs(drifted);
+  pairs[19].method = AlignmentMethod::kIcp;  // frames 19 -> 20
+  pairs[19].degenerate = 3;
+  RefineOptions options;
+  options.windows.polish_iterations = 0;
+  options.windows.extra_iterations = 0;
+  RefineRun run;
+  run.quiet = true;
+  const int loop_iteration = 3;
+  auto presolve = [&](bool tree, bool better) {
+    RefineOptions o = options;
+    o.loops.spanning_tree = tree;
+    o.loops.better_start = better;
+    const RefineResult r =
+        RefineFineToCoarse(scene.index, pairs, drifted, testing::TestIntrinsics(), o, run, scene.Keyframes());
+    EXPECT_GT(static_cast<int>(r.iterations.size()), loop_iteration);
+    const IterationSummary& s = r.iterations.at(loop_iteration);
+    EXPECT_FALSE(s.presolve.termination.empty()) << "the loop disagrees: presolved";
+    double cost = 0;
+    for (const auto& [term, value] : s.presolve.cost_after) cost += term == "E_I" ? 0.0 : value;
+    return std::make_pair(cost, s.presolve_start);
+  };
+  const auto [tree_cost, tree_start] = presolve(true, false);
+  const auto [current_cost, current_start] = presolve(false, false);
+  const auto [kept_cost, kept_start] = presolve(true, true);
+  EXPECT_EQ(tree_start, "tree");
+  EXPECT_EQ(current_start, "current");
+  EXPECT_NE(tree_cost, current_cost) << "the two starts end apart";
+  EXPECT_DOUBLE_EQ(kept_cost, std::min(tree_cost, current_cost));
+  EXPECT_EQ(kept_start, tree_cost <= current_cost ? "tree" : "current");
+  std::printf("E_L + E_M + E_V after the presolve: from the tree %.6g, from the current poses %.6g\n", tree_cost,
+              current_cost);
 }
 
 // A keyframe cache holds what was offered and reads back the same bytes.
