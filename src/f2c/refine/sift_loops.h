@@ -68,8 +68,8 @@ struct SiftLoopOptions {
   // link by a loop's single RANSAC estimate; where the odometry has few weak links (the
   // photometric step measured a plain wall's slides), one imprecise loop then places a long
   // stretch, and E_M's Cauchy loss no longer sees the loops that would bring it back:
-  // measured (BENCHMARKS.md, "The loop placement's two starts"), 5,000 frames with the
-  // photometric options 0.035 -> 0.0075 m ATE.
+  // measured (BENCHMARKS.md, "Thirteenth stop"), 5,000 frames with the photometric
+  // options 0.035 -> 0.0077 m ATE.
   bool better_start = true;
   // Whether E_M stays in the polish iterations (refine/windows.h).
   bool in_polish = false;
