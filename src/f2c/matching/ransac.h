@@ -29,7 +29,8 @@ struct RansacOptions {
   // sensors, after Nguyen et al. 2012) and across it by bearing_sigma radians (keypoint
   // localisation). Gauss-Newton on SE(3) over the inliers, each residual R a + t - b
   // weighted by (C_b + R C_a R^T)^-1, with Cauchy weights at anisotropic_scale of that
-  // Mahalanobis distance. 0 iterations: off.
+  // Mahalanobis distance. 0 iterations: off (here, the generic default; the odometry's pairs
+  // use it, odometry/odometry.h).
   int anisotropic_iterations = 0;
   double bearing_sigma = 0.0015;  // radians (0.8 px at f = 525)
   double depth_noise_a = 0.0012;  // metres
@@ -48,14 +49,20 @@ struct RansacOptions {
               "Cauchy scale (m) of the final reweighted refit on RANSAC inliers (0: off)");
     F2C_FIELD(v, robust_iterations, "", AtLeast(0), "iterations of that refit");
     F2C_FIELD(v, anisotropic_iterations, "--ransac-anisotropic", AtLeast(0),
-              "Gauss-Newton steps of a ray-aware (depth noise along the ray) refit after RANSAC; 0: off "
-              "(better on the simulator, worse on real sensors: BENCHMARKS.md)");
+              "Gauss-Newton steps of a ray-aware (depth noise along the ray) refit after RANSAC; 0: off");
     F2C_FIELD(v, bearing_sigma, "", Positive(), "keypoint direction noise (rad)");
     F2C_FIELD(v, depth_noise_a, "", AtLeast(0), "depth noise a + b z^2: a (m)");
     F2C_FIELD(v, depth_noise_b, "", AtLeast(0), "...b (1/m)");
     F2C_FIELD(v, anisotropic_scale, "", Positive(), "Cauchy scale of the ray-aware refit (Mahalanobis)");
   }
   void Check() const;
+
+  // These options with the ray-aware refit in `iterations` Gauss-Newton steps.
+  static RansacOptions WithRayAwareRefit(int iterations) {
+    RansacOptions o;
+    o.anisotropic_iterations = iterations;
+    return o;
+  }
 };
 
 // The anisotropic maximum-likelihood refinement alone (see RansacOptions), from `initial`.
