@@ -57,6 +57,12 @@ double GraphCost(const SolveSummary& summary) {
 
 }  // namespace
 
+bool KeepSecondPresolve(const SolveSummary& first, const SolveSummary& second) {
+  if (!second.usable) return false;
+  if (!first.usable) return true;
+  return GraphCost(second) < GraphCost(first);
+}
+
 void RefineOptions::Check() const {
   CheckFields(*this);
 }
@@ -172,7 +178,7 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
       if (options.loops.spanning_tree && options.loops.better_start) {
         // E_I counts each pose's change from its own start, so the starts compare without it.
         SolveSummary from_current = SolvePoses(loop_graph, graph, &current);
-        if (from_current.usable && GraphCost(from_current) < GraphCost(s.presolve)) {
+        if (KeepSecondPresolve(s.presolve, from_current)) {
           result.poses = std::move(current);
           s.presolve = from_current;
           s.presolve_start = "current";

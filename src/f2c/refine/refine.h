@@ -196,6 +196,12 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
 // Camera path from the first frame to each frame (metres).
 std::vector<double> CameraPath(const Trajectory& trajectory);
 
+// The loops' presolve from two starts (SiftLoopOptions::better_start): whether to keep the
+// solve from `second` over the one from `first`. Kept: the lower E_L + E_M + E_V after the
+// solve, usable only; E_I is left out, since it counts each pose's change from that solve's
+// own start, so the two starts' E_I do not compare. A tie keeps `first`.
+bool KeepSecondPresolve(const SolveSummary& first, const SolveSummary& second);
+
 nlohmann::json ToJson(const IterationSummary& summary);
 
 }  // namespace f2c

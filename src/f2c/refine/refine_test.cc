@@ -126,6 +126,26 @@ struct ExactRoom {
 // Poses from perturbed starts come back to the truth when the correspondences alone decide
 // (E_L off): the whole machinery of pairs, closest compatible features and solve is exact on
 // exact planes and creases.
+// The loops' presolve from two starts keeps the lower E_L + E_M + E_V, E_I left out: here the
+// second start wins without E_I and would lose with it (sift_loops_test's corner loop only
+// ever makes the tree's start win, so this is the direction it cannot show).
+TEST(KeepSecondPresolve, ComparesTheGraphCostWithoutInertia) {
+  SolveSummary tree, current;
+  tree.usable = current.usable = true;
+  tree.cost_after = {{"E_L", 2.0}, {"E_M", 1.0}, {"E_V", 0.5}, {"E_I", 0.1}};     // 3.5 without E_I
+  current.cost_after = {{"E_L", 1.0}, {"E_M", 1.5}, {"E_V", 0.5}, {"E_I", 2.0}};  // 3.0 without E_I
+  EXPECT_TRUE(KeepSecondPresolve(tree, current));
+  EXPECT_FALSE(KeepSecondPresolve(current, tree));
+  current.cost_after["E_M"] = 2.0;  // 3.5: a tie keeps the first
+  EXPECT_FALSE(KeepSecondPresolve(tree, current));
+  current.cost_after["E_M"] = 1.5;
+  current.usable = false;  // a failed solve is never kept...
+  EXPECT_FALSE(KeepSecondPresolve(tree, current));
+  current.usable = true;
+  tree.usable = false;  // ...and never keeps its place
+  EXPECT_TRUE(KeepSecondPresolve(tree, current));
+}
+
 TEST(RefineFineToCoarse, RecoversPerturbedPosesOnExactGeometry) {
   ExactRoom room;
   room.options.windows.polish_iterations = 10;
