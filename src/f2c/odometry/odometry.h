@@ -87,10 +87,10 @@ struct OdometryOptions {
   // is uncertain along its ray by centimetres at 2-3 m, its direction to a pixel, and the
   // plain 3D fit lets the depth noise turn the pair. Measured (BENCHMARKS.md, "Fourteenth
   // stop"): T0's ATE on fr1/xyz is worse with it (0.0236 -> 0.0288 m) but its motion per
-  // frame and per second better, and the refined trajectories gain on every real sequence
-  // of useful length and on the simulated walks (the refinement keeps the relative poses,
-  // E_L, and removes the drift). The SIFT loops' RANSAC keeps the plain refit (measured: no
-  // gain there).
+  // frame and per second better, and the refined trajectories gain: fr1/xyz, redkitchen
+  // with the structure (without it even), the simulated walks (the refinement keeps the
+  // relative poses, E_L, and removes the drift). The SIFT loops' RANSAC keeps the plain
+  // refit (measured: no gain there).
   RansacOptions ransac = RansacOptions::WithRayAwareRefit(5);
   // SIFT alignments with fewer RANSAC inliers fall back to ICP.
   int min_inliers = 12;
