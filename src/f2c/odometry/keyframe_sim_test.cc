@@ -52,9 +52,9 @@ TEST(KeyframeOdometry, OnASimulated30HzWalkIsNoWorseThanHalfTheFramesAndBetterTh
 
 // The default odometry ends each pair's RANSAC with the ray-aware refit (odometry.h): under a
 // depth sensor's noise, long along the ray and small across it, the relative motion of each
-// frame is more precise than the plain 3D fit's. Measured on 900-frame walks: 0.0035-0.0044 m
-// and 0.09-0.14 deg per frame against 0.0086-0.0106 m and 0.18-0.21 deg (BENCHMARKS.md,
-// "Fourteenth stop").
+// frame is more precise than the plain 3D fit's. Measured on nine 900-frame walks:
+// 0.0035-0.0065 m and 0.09-0.17 deg per frame against 0.0085-0.0131 m and 0.18-0.27 deg
+// (BENCHMARKS.md, "Fourteenth stop").
 TEST(KeyframeOdometry, TheRayAwareRefitMakesEachFramesMotionMorePrecise) {
   const auto dir = testing::FreshTempDir("keyframe_sim_ray");
   sim::SimulateOptions sim;
