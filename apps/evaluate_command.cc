@@ -55,6 +55,12 @@ json StatsJson(const ErrorStatistics& s) {
           {"min", s.min},   {"max", s.max},   {"count", s.count}};
 }
 
+// The file's correspondences between the frames --first/--last/--every keep, numbered as
+// the selected dataset numbers them.
+std::vector<Correspondence> SelectedCorrespondences(const fs::path& file, const IoOptions& io) {
+  return SelectFrames(ReadCorrespondences(file), io.first, io.last, io.every);
+}
+
 }  // namespace
 
 int RunEvaluate(const EvaluateArgs& args) {
@@ -90,7 +96,7 @@ int RunEvaluate(const EvaluateArgs& args) {
       ThrowInputError(correspondence_file, "correspondences name frames: give --ground-truth as the dataset folder");
     }
     corr = CorrespondenceError(PosesAtFrames(est, frame_timestamps, args.evaluation.max_time_difference),
-                               ReadCorrespondences(correspondence_file), correspondence_file.string());
+                               SelectedCorrespondences(correspondence_file, args.io), correspondence_file.string());
   }
   // A mesh made with the estimate's poses, moved into the truth's frame by ATE's alignment.
   std::optional<MeshError> mesh_error;
@@ -133,7 +139,7 @@ int RunEvaluate(const EvaluateArgs& args) {
     in.estimates.push_back({args.name, est, SeriesColor(0)});
     in.max_time_difference = args.evaluation.max_time_difference;
     if (!correspondence_file.empty() && !frame_timestamps.empty()) {
-      in.correspondences = ReadCorrespondences(correspondence_file);
+      in.correspondences = SelectedCorrespondences(correspondence_file, args.io);
       in.frame_timestamps = frame_timestamps;
     }
     if (dataset && dataset->intrinsics) {

@@ -11,6 +11,7 @@
 
 #include "f2c/features/feature_set.h"
 #include "f2c/io/conf.h"
+#include "f2c/io/correspondences.h"
 #include "f2c/io/ply.h"
 #include "f2c/io/trajectory.h"
 #include "f2c/testing/synthetic_scene.h"
@@ -410,6 +411,21 @@ TEST(Cli, SimulateWritesAReadableScanAndDemoEvaluatesIt) {
   EXPECT_EQ(no_frames.code, 1);
   EXPECT_EQ(no_frames.output, "error: " + (scan / "correspondences.txt").string() +
                                   ": correspondences name frames: give --ground-truth as the dataset folder\n");
+  // A prefix (--last) is measured on the correspondences inside it: the truth's own poses
+  // put each pair's points together, and every pair within frames 0..5 counts.
+  const Result prefix = RunCli("evaluate --json --last 5 --estimate " + (scan / "groundtruth.txt").string() +
+                               " --ground-truth " + scan.string());
+  ASSERT_EQ(prefix.code, 0) << prefix.output;
+  const nlohmann::json p = nlohmann::json::parse(prefix.output);
+  int inside = 0, all = 0;
+  for (const Correspondence& c : ReadCorrespondences(scan / "correspondences.txt")) {
+    ++all;
+    inside += c.frame_a <= 5 && c.frame_b <= 5;
+  }
+  ASSERT_GT(inside, 0);
+  ASSERT_LT(inside, all);
+  EXPECT_EQ(p["correspondences"]["distance_m"]["count"].get<int>(), inside);
+  EXPECT_LT(p["correspondences"]["distance_m"]["rmse"].get<double>(), 1e-4);
 }
 
 TEST(Cli, InfoOnRealData) {

@@ -42,6 +42,22 @@ std::vector<GapBin> BinByGap(const std::vector<std::pair<int, double>>& gap_erro
   return out;
 }
 
+std::vector<Correspondence> SelectFrames(const std::vector<Correspondence>& correspondences, int first, int last,
+                                         int every) {
+  F2C_CHECK(first >= 0 && every >= 1, "a frame selection starts at a frame and steps forward");
+  if (first == 0 && last < 0 && every == 1) return correspondences;
+  auto renumber = [&](int frame, int* selected) {
+    if (frame < first || (last >= 0 && frame > last) || (frame - first) % every != 0) return false;
+    *selected = (frame - first) / every;
+    return true;
+  };
+  std::vector<Correspondence> out;
+  for (Correspondence c : correspondences) {
+    if (renumber(c.frame_a, &c.frame_a) && renumber(c.frame_b, &c.frame_b)) out.push_back(c);
+  }
+  return out;
+}
+
 CorrespondenceResult CorrespondenceError(const std::vector<std::optional<Rigid3d>>& world_from_frame,
                                          const std::vector<Correspondence>& correspondences, const std::string& source) {
   CorrespondenceResult result;

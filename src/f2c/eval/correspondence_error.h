@@ -34,6 +34,13 @@ struct CorrespondenceResult {
   int skipped = 0;           // correspondences with a frame that has no estimated pose
 };
 
+// The correspondences between two frames that a frame selection keeps (IoOptions: frames
+// first..last of the sequence, last < 0 the end, then every N-th), renumbered as the selected
+// sequence numbers its frames (original first + j every is j); the others are left out. So
+// `evaluate --last 2000` measures a prefix against a whole scan's correspondences.
+std::vector<Correspondence> SelectFrames(const std::vector<Correspondence>& correspondences, int first, int last,
+                                         int every);
+
 // InputError naming `source` when a correspondence refers to a frame beyond `poses`.
 CorrespondenceResult CorrespondenceError(const std::vector<std::optional<Rigid3d>>& world_from_frame,
                                          const std::vector<Correspondence>& correspondences,

@@ -77,6 +77,30 @@ TEST(CorrespondenceError, FramesWithoutPosesAreSkippedAndUnknownFramesAreErrors)
             "c.txt: a correspondence refers to frame 7 but the dataset has 3 frames");
 }
 
+TEST(SelectFrames, KeepsPairsInsideTheSelectionRenumbered) {
+  auto pair = [](int a, int b) {
+    Correspondence c;
+    c.frame_a = a, c.frame_b = b;
+    c.point_in_a = Eigen::Vector3d(a, b, 1);
+    return c;
+  };
+  const std::vector<Correspondence> all = {pair(0, 4), pair(2, 6), pair(3, 5), pair(4, 10), pair(6, 12), pair(8, 9)};
+  // Frames 2..10, every 2nd: 2, 4, 6, 8, 10 become 0..4; odd frames, 0 and 12 are not selected.
+  const std::vector<Correspondence> kept = SelectFrames(all, 2, 10, 2);
+  ASSERT_EQ(kept.size(), 2u);
+  EXPECT_EQ(kept[0].frame_a, 0);
+  EXPECT_EQ(kept[0].frame_b, 2);
+  EXPECT_EQ(kept[0].point_in_a, Eigen::Vector3d(2, 6, 1));  // the points travel with their pair
+  EXPECT_EQ(kept[1].frame_a, 1);
+  EXPECT_EQ(kept[1].frame_b, 4);
+  // A prefix (--last 5): pairs reaching beyond it are left out, not errors.
+  const std::vector<Correspondence> prefix = SelectFrames(all, 0, 5, 1);
+  ASSERT_EQ(prefix.size(), 2u);
+  EXPECT_EQ(prefix[0].frame_b, 4);
+  EXPECT_EQ(prefix[1].frame_a, 3);
+  EXPECT_EQ(SelectFrames(all, 0, -1, 1).size(), all.size());  // no selection: all of them
+}
+
 TEST(PosesAtFrames, AssociatesByTimeStamp) {
   Trajectory estimate;
   Rigid3d p = Rigid3d::Identity();
