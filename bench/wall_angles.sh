@@ -8,7 +8,9 @@
 #   bash bench/wall_angles.sh [build dir] [work dir]
 #
 # F2C_BENCH_SEEDS: the walks' seeds (default "0"); seed 0 keeps the folder names of earlier
-# runs, others get -sSEED.
+# runs, others get -sSEED. F2C_BENCH_VARIANTS: more variants after the two, each NAME=ARGS
+# separated by ';' (e.g. "loss1=--structure --polish-relation-loss-scale 1"); they reuse the
+# walk's caches.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="$(pwd)/${1:-build}"
@@ -25,16 +27,23 @@ for scene in apartment apartment-square; do
   s=${skew[$scene]}
   walls=(--wall right 10 6 "$(awk "BEGIN {print 10 - $s}")" 10 --wall back "$(awk "BEGIN {print 10 - $s}")" 10 "$(awk "BEGIN {print 2 + $s}")" 10
          --wall left "$(awk "BEGIN {print 2 + $s}")" 10 2 6)
-  for variant in no-structure structure; do
+  variants=("no-structure=--no-structure" "structure=--structure")
+  IFS=';' read -r -a more <<< "${F2C_BENCH_VARIANTS:-}"
+  variants+=("${more[@]}")
+  for v in "${variants[@]}"; do
+    variant="${v%%=*}"
     out="$work/out-$scene$suffix-$variant"
     mkdir -p "$out"
     [ -d "$work/out-$scene$suffix-no-structure/cache" ] && [ ! -d "$out/cache" ] && cp -r "$work/out-$scene$suffix-no-structure/cache" "$out/"
-    "$bin" register "$sim" -o "$out" -q --no-mesh "--$variant" > "$out.log" 2>&1
+    # shellcheck disable=SC2086
+    "$bin" register "$sim" -o "$out" -q --no-mesh ${v#*=} > "$out.log" 2>&1
     if [ "$variant" = no-structure ]; then
       echo "## $scene, seed $seed, T0"
       "$build/bench/wall_angles" "$sim" "$out/cache/features.f2cf" "$out/trajectory_t0.txt" "${walls[@]}"
     fi
-    echo "## $scene, seed $seed, --$variant"
+    label="--$variant"
+    [ "$v" = "$variant=--$variant" ] || label="$variant (${v#*=})"
+    echo "## $scene, seed $seed, $label"
     "$build/bench/wall_angles" "$sim" "$out/cache/features.f2cf" "$out/trajectory.txt" "${walls[@]}"
   done
 done
