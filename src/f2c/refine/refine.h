@@ -48,9 +48,9 @@ struct RefineOptions {
   SolverOptions solver;
   // The planar structural model (E_P, E_H, E_G), register --structure. Off by default for
   // now: measured (BENCHMARKS.md), it lowers rotation drift and error on simulated multi-room
-  // walks and helps 7-Scenes redkitchen a little, but costs accuracy on TUM fr1/xyz
-  // (0.0114 -> 0.0117 m ATE: the sensor's views of one plane disagree on its tilt, and E_H
-  // pulls the poses to make them agree) and time.
+  // walks and helps 7-Scenes redkitchen a little (0.0283 -> 0.0268 m ATE), is level on TUM
+  // fr1/xyz (0.0108 m; it cost 0.0003 there until E_G weighed 1), but costs time (about 1.6x
+  // the refinement's) and SUN3D's five frames a little.
   bool structure = false;
   HierarchyOptions hierarchy;
   RelationOptions relations;
