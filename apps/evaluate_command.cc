@@ -55,12 +55,6 @@ json StatsJson(const ErrorStatistics& s) {
           {"min", s.min},   {"max", s.max},   {"count", s.count}};
 }
 
-// The file's correspondences between the frames --first/--last/--every keep, numbered as
-// the selected dataset numbers them.
-std::vector<Correspondence> SelectedCorrespondences(const fs::path& file, const IoOptions& io) {
-  return SelectFrames(ReadCorrespondences(file), io.first, io.last, io.every);
-}
-
 }  // namespace
 
 int RunEvaluate(const EvaluateArgs& args) {
@@ -91,12 +85,15 @@ int RunEvaluate(const EvaluateArgs& args) {
     correspondence_file = fs::path(args.ground_truth) / "correspondences.txt";
   }
   std::optional<CorrespondenceResult> corr;
+  std::vector<Correspondence> correspondences;
   if (!correspondence_file.empty()) {
     if (frame_timestamps.empty()) {
       ThrowInputError(correspondence_file, "correspondences name frames: give --ground-truth as the dataset folder");
     }
+    // Those between the frames --first/--last/--every keep, numbered as the selection is.
+    correspondences = SelectFrames(ReadCorrespondences(correspondence_file), args.io.first, args.io.last, args.io.every);
     corr = CorrespondenceError(PosesAtFrames(est, frame_timestamps, args.evaluation.max_time_difference),
-                               SelectedCorrespondences(correspondence_file, args.io), correspondence_file.string());
+                               correspondences, correspondence_file.string());
   }
   // A mesh made with the estimate's poses, moved into the truth's frame by ATE's alignment.
   std::optional<MeshError> mesh_error;
@@ -139,7 +136,7 @@ int RunEvaluate(const EvaluateArgs& args) {
     in.estimates.push_back({args.name, est, SeriesColor(0)});
     in.max_time_difference = args.evaluation.max_time_difference;
     if (!correspondence_file.empty() && !frame_timestamps.empty()) {
-      in.correspondences = SelectedCorrespondences(correspondence_file, args.io);
+      in.correspondences = correspondences;
       in.frame_timestamps = frame_timestamps;
     }
     if (dataset && dataset->intrinsics) {
