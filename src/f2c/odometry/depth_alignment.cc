@@ -166,16 +166,62 @@ ViewConstraints AnalyseViewConstraints(const cv::Mat& depth, const cv::Mat& gray
   return out;
 }
 
+namespace {
+
+// The left difference a = exp(w, v) b in (w L, v) units: R_w = R_a R_b^T, v = t_a - R_w t_b.
+Eigen::Matrix<double, 6, 1> LeftDifference(const Rigid3d& a, const Rigid3d& b, double lever) {
+  const Eigen::Matrix3d r_w = a.linear() * b.linear().transpose();
+  const Eigen::AngleAxisd w_axis(r_w);
+  Eigen::Matrix<double, 6, 1> delta;
+  delta << w_axis.angle() * w_axis.axis() * lever, a.translation() - r_w * b.translation();
+  return delta;
+}
+
+}  // namespace
+
+Eigen::Matrix<double, 6, Eigen::Dynamic> PhotometricDirections(const ViewConstraints& view,
+                                                               double prior_information) {
+  const DepthConstraints& d = view.depth;
+  // The information on e_i with the image added, every other direction free: 1 / (e_i^T (H_depth
+  // + p I + H_image)^-1 e_i); without the image it is lambda_i + p (e_i is H_depth's).
+  const Eigen::Matrix<double, 6, 6> both =
+      d.information + prior_information * Eigen::Matrix<double, 6, 6>::Identity() + view.image.information;
+  const Eigen::Matrix<double, 6, 6> covariance = both.ldlt().solve(Eigen::Matrix<double, 6, 6>::Identity());
+  std::vector<int> chosen;
+  for (int i = 0; i < 6; ++i) {
+    const Eigen::Matrix<double, 6, 1> e = d.eigenvectors.col(i);
+    const double depth = std::max(d.eigenvalues(i), 0.0) + prior_information;
+    if (d.eigenvalues(i) < prior_information || 1.0 / e.dot(covariance * e) > 2.0 * depth) chosen.push_back(i);
+  }
+  Eigen::Matrix<double, 6, Eigen::Dynamic> out(6, static_cast<int>(chosen.size()));
+  for (size_t j = 0; j < chosen.size(); ++j) out.col(static_cast<int>(j)) = d.eigenvectors.col(chosen[j]);
+  return out;
+}
+
+Rigid3d FusePhotometric(const Rigid3d& refined, const Rigid3d& fused, const ViewConstraints& view,
+                        const Eigen::Matrix<double, 6, Eigen::Dynamic>& b, double prior_information,
+                        int* degenerate) {
+  const int m = static_cast<int>(b.cols());
+  const Eigen::MatrixXd a_f =
+      b.transpose() * (view.depth.information + prior_information * Eigen::Matrix<double, 6, 6>::Identity()) * b;
+  const Eigen::MatrixXd a_i = b.transpose() * view.image.information * b;
+  if (degenerate != nullptr) {
+    const Eigen::MatrixXd both = b.transpose() * (view.depth.information + view.image.information) * b;
+    const Eigen::VectorXd lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(both).eigenvalues();
+    *degenerate = 0;
+    for (int i = 0; i < m; ++i) *degenerate += lambda(i) < prior_information;
+  }
+  if (m == 0) return fused;
+  const double lever = view.depth.mean_depth;
+  const Eigen::VectorXd s = b.transpose() * LeftDifference(refined, fused, lever);
+  const Eigen::VectorXd kept = (a_f + a_i).ldlt().solve(a_i * s);
+  return ExpScaled(b * kept, lever) * fused;
+}
+
 Rigid3d ConstrainToGeometry(const Rigid3d& icp, const Rigid3d& prior, const DepthConstraints& c,
                             double prior_information) {
   if (c.samples == 0 || !(prior_information > 0)) return icp;
-  // Left difference: icp = exp(w, v) prior, with R_w = R_icp R_prior^T, v = t_icp - R_w t_prior.
-  const Eigen::Matrix3d r_w = icp.linear() * prior.linear().transpose();
-  const Eigen::AngleAxisd w_axis(r_w);
-  const Eigen::Vector3d w = w_axis.angle() * w_axis.axis();
-  const Eigen::Vector3d v = icp.translation() - r_w * prior.translation();
-  Eigen::Matrix<double, 6, 1> delta;
-  delta << w * c.mean_depth, v;
+  const Eigen::Matrix<double, 6, 1> delta = LeftDifference(icp, prior, c.mean_depth);
   Eigen::Matrix<double, 6, 1> kept = Eigen::Matrix<double, 6, 1>::Zero();
   for (int i = 0; i < 6; ++i) {
     const double share = std::max(c.eigenvalues(i), 0.0) / (std::max(c.eigenvalues(i), 0.0) + prior_information);

@@ -35,7 +35,8 @@ struct IcpOptions {
   int degeneracy_stride = 8;  // pixels between the reference depth samples it looks at
   // A wall the depth leaves free may still show texture SIFT does not key on (mottled
   // plaster, low-contrast paint). Where the depth leaves directions to the prior, the fused
-  // answer is refined along them by dense photometric alignment (photometric.h), and each
+  // answer is refined along them (and along any the image measures better than the depth,
+  // PhotometricDirections) by dense photometric alignment (photometric.h), and each
   // reference sample whose grey-level gradient (Gaussian sigma 1 px, central differences) is
   // at least min_gradient adds the constraint the image puts on the sideways motion of its
   // point (AnalyseViewConstraints), which decides how much of it is kept. On the simulated
@@ -116,6 +117,26 @@ ViewConstraints AnalyseViewConstraints(const cv::Mat& depth, const cv::Mat& gray
 // same fusion keeps the photometric step where the image constrains it: odometry.cc.)
 Rigid3d ConstrainToGeometry(const Rigid3d& icp, const Rigid3d& prior, const DepthConstraints& constraints,
                             double prior_information);
+
+// The directions of motion the photometric step refines (photometric.h): each eigenvector e_i
+// of the depth's information whose eigenvalue lambda_i is below prior_information (the depth
+// leaves it to the prior), or on which the image adds more than the depth and the prior give,
+// every other direction free: 1 / (e_i^T (H_depth + p I + H_image)^-1 e_i) > 2 (lambda_i + p).
+// That takes a wall's slide that one door jamb's edge barely constrains (ICP's error there
+// stays near the prior's), and leaves a textured wall's tilts, which its image sees only
+// together with its slides. Orthonormal columns, weakest first.
+Eigen::Matrix<double, 6, Eigen::Dynamic> PhotometricDirections(const ViewConstraints& view, double prior_information);
+
+// The photometric answer `refined`, which differs from `fused` only along the columns B of
+// `directions`, fused with `fused` as two estimates there: with s the left difference
+// refined * fused^-1 in B's coordinates ((w L, v) units), `fused` measured by A_f = B^T
+// (H_depth + prior_information I) B and `refined` by A_i = B^T H_image B, the result is
+// exp(B (A_f + A_i)^-1 A_i s) fused. Where the depth is silent (H_depth 0 along B) this is
+// ConstrainToGeometry with the image's information. *degenerate (optional): the eigenvalues
+// of B^T (H_depth + H_image) B below prior_information, the directions neither measures.
+Rigid3d FusePhotometric(const Rigid3d& refined, const Rigid3d& fused, const ViewConstraints& view,
+                        const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions, double prior_information,
+                        int* degenerate = nullptr);
 
 struct DepthOverlap {
   double fitness = 0;  // fraction of valid source samples within `threshold` of the target's surface

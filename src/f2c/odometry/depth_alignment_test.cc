@@ -125,5 +125,71 @@ TEST(AnalyseViewConstraints, CountsTheMotionsTheImageGradientsConstrain) {
   EXPECT_EQ(flat_wall.image.Degenerate(threshold), 6);
 }
 
+// Hand-made constraints along the coordinate axes of (w L, v): the depth's eigenvalues and the
+// image's information per axis.
+ViewConstraints AxisConstraints(const Eigen::Matrix<double, 6, 1>& depth, const Eigen::Matrix<double, 6, 1>& image) {
+  ViewConstraints view;
+  for (DepthConstraints* c : {&view.depth, &view.image}) {
+    c->information = (c == &view.depth ? depth : image).asDiagonal();
+    c->mean_depth = 2.0;
+    c->samples = 100;
+  }
+  // Ascending, as AnalyseViewConstraints gives them (the depth's are already in order below).
+  view.depth.eigenvalues = depth;
+  view.depth.eigenvectors.setIdentity();
+  return view;
+}
+
+// Free to the depth (below the prior's 0.01): the slides, chosen. A direction the depth barely
+// constrains (0.02) but the image does (0.3, more than the depth's and the prior's 0.03):
+// chosen too. The tilts and the distance, which the depth measures better: left to ICP.
+TEST(PhotometricDirections, TakesWhatTheDepthLeavesFreeAndWhatTheImageMeasuresBetter) {
+  Eigen::Matrix<double, 6, 1> depth, image;
+  depth << 0.0, 0.005, 0.02, 0.06, 0.1, 1.0;
+  image << 0.5, 0.5, 0.3, 0.01, 0.05, 0.0;
+  const Eigen::Matrix<double, 6, Eigen::Dynamic> b = PhotometricDirections(AxisConstraints(depth, image), 0.01);
+  ASSERT_EQ(b.cols(), 3);
+  EXPECT_EQ(b, (Eigen::Matrix<double, 6, 6>::Identity().leftCols(3)));
+  image(2) = 0.015;  // now the depth and the prior (0.03) measure it better
+  EXPECT_EQ(PhotometricDirections(AxisConstraints(depth, image), 0.01).cols(), 2);
+  // An image that sees a tilt only together with a slide (one row along (slide + tilt) / sqrt 2,
+  // information 1, as a fronto-parallel wall's texture confounds them): 0.5 along the tilt alone,
+  // but with the slide free it adds 0.01 to the tilt's 0.07. Not chosen.
+  ViewConstraints confounded = AxisConstraints(depth, Eigen::Matrix<double, 6, 1>::Zero());
+  Eigen::Matrix<double, 6, 1> u = Eigen::Matrix<double, 6, 1>::Zero();
+  u(0) = u(3) = 1 / std::sqrt(2.0);
+  confounded.image.information = u * u.transpose();
+  EXPECT_EQ(PhotometricDirections(confounded, 0.01), (Eigen::Matrix<double, 6, 6>::Identity().leftCols(2)));
+}
+
+// Along each chosen axis the photometric step's move s is kept in the share lambda_image /
+// (lambda_image + lambda_depth + prior): all of it where the depth is silent and the image
+// strong, a part where both measure, none where the image is blind.
+TEST(FusePhotometric, WeighsThePhotometricStepAgainstTheDepthAndThePrior) {
+  Eigen::Matrix<double, 6, 1> depth, image;
+  depth << 0.0, 0.0, 0.02, 0.06, 0.1, 1.0;
+  image << 0.99, 0.0, 0.08, 0.0, 0.0, 0.0;
+  const ViewConstraints view = AxisConstraints(depth, image);
+  const double p = 0.01;
+  const Eigen::Matrix<double, 6, Eigen::Dynamic> b = Eigen::Matrix<double, 6, 6>::Identity().leftCols(3);
+  const Rigid3d fused = Exp({0.01, -0.02, 0.03}, {0.1, 0.0, 0.2});
+  Eigen::Matrix<double, 6, 1> s;
+  s << 0.004, -0.006, 0.01, 0.0, 0.0, 0.0;  // (w L, v), L = 2
+  const Rigid3d refined = ExpScaled(s, view.depth.mean_depth) * fused;
+  int degenerate = -1;
+  const Rigid3d out = FusePhotometric(refined, fused, view, b, p, &degenerate);
+  Eigen::Matrix<double, 6, 1> kept;
+  kept << 0.99 * 0.004, 0.0, 0.08 / (0.08 + 0.02 + p) * 0.01, 0.0, 0.0, 0.0;
+  const Rigid3d expected = ExpScaled(kept, view.depth.mean_depth) * fused;
+  EXPECT_LT((out.matrix() - expected.matrix()).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_EQ(degenerate, 1);  // the second axis: neither measures it
+  // Where the depth is silent along every chosen direction it is ConstrainToGeometry with the
+  // image's information.
+  const ViewConstraints silent = AxisConstraints((Eigen::Matrix<double, 6, 1>() << 0, 0, 0, 0.06, 0.1, 1).finished(), image);
+  const Rigid3d a = FusePhotometric(refined, fused, silent, b, p);
+  const Rigid3d c = ConstrainToGeometry(refined, fused, silent.image.Along(b), p);
+  EXPECT_LT((a.matrix() - c.matrix()).cwiseAbs().maxCoeff(), 1e-12);
+}
+
 }  // namespace
 }  // namespace f2c

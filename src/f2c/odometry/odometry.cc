@@ -132,15 +132,17 @@ void ApplyFallback(const FrameImages& prev, const FrameImages& curr, const Camer
                                                           o.degeneracy_stride, o.min_gradient);
       icp.prev_from_curr = ConstrainToGeometry(icp.prev_from_curr, previous_motion, view.depth, o.prior_information);
       icp.degenerate = view.depth.Degenerate(o.prior_information);
-      if (photometric && icp.degenerate > 0) {
-        // ...unless its image measures them: the fused answer refined along them by intensity,
-        // and kept as far as the image's information along them says.
-        const Eigen::Matrix<double, 6, Eigen::Dynamic> free = view.depth.eigenvectors.leftCols(icp.degenerate);
+      const Eigen::Matrix<double, 6, Eigen::Dynamic> weak =
+          photometric && icp.degenerate > 0 ? PhotometricDirections(view, o.prior_information)
+                                            : Eigen::Matrix<double, 6, Eigen::Dynamic>(6, 0);
+      if (weak.cols() > 0) {
+        // ...unless its image measures them: the fused answer refined by intensity along them
+        // (and along any the image measures better than the depth), and kept as far as the
+        // image's information weighs against the depth's and the prior's.
         Rigid3d refined = icp.prev_from_curr;
-        if (AlignPhotometric(prev.gray, prev.depth, curr.gray, k, free, view.depth.mean_depth, o.dense, &refined).ok) {
-          const DepthConstraints image = view.image.Along(free);
-          icp.prev_from_curr = ConstrainToGeometry(refined, icp.prev_from_curr, image, o.prior_information);
-          icp.degenerate = image.Degenerate(o.prior_information) - (6 - icp.degenerate);  // the zeros across
+        if (AlignPhotometric(prev.gray, prev.depth, curr.gray, k, weak, view.depth.mean_depth, o.dense, &refined).ok) {
+          icp.prev_from_curr =
+              FusePhotometric(refined, icp.prev_from_curr, view, weak, o.prior_information, &icp.degenerate);
         }
       }
       clock->icp += timer.Seconds();
