@@ -5,12 +5,13 @@
 # system beside us (python3-open3d, python3-joblib); the build and the tests do not need it.
 # clang, libclang-rt-14-dev: the sanitizer build and the libFuzzer targets (scripts/test_sanitized.sh).
 # libopenblas0-pthread: CHOLMOD (Ceres) then uses OpenBLAS instead of the reference BLAS
-# or ATLAS; the refinement solves faster (BENCHMARKS.md).
+# or ATLAS; the refinement solves faster (BENCHMARKS.md). libsuitesparse-dev: CHOLMOD, which
+# also factors our own one-step normal equations (src/f2c/optim/gauss_newton.h).
 set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config
-  libeigen3-dev libceres-dev libopencv-dev libnanoflann-dev libopenblas0-pthread
+  libeigen3-dev libceres-dev libsuitesparse-dev libopencv-dev libnanoflann-dev libopenblas0-pthread
   libdeflate-dev libturbojpeg0-dev libxxhash-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev libtinyxml2-dev
   libjs-three chromium

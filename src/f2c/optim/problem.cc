@@ -1,7 +1,6 @@
 #include "f2c/optim/problem.h"
 
 #include <ceres/ceres.h>
-#include <ceres/sphere_manifold.h>
 #include <fmt/format.h>
 
 #include <cmath>
@@ -9,12 +8,14 @@
 #include <memory>
 #include <mutex>
 #include <set>
+#include <unordered_map>
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include "f2c/optim/blas_threads.h"
 #include "f2c/optim/cost_functions.h"
+#include "f2c/optim/gauss_newton.h"
 #include "f2c/optim/structure_costs.h"
 #include "f2c/util/error.h"
 #include "f2c/util/timer.h"
@@ -36,12 +37,14 @@ constexpr const char* kTermP = "E_P";
 constexpr const char* kTermH = "E_H";
 constexpr const char* kTermG = "E_G";
 
-// A plane variable: its normal and offset blocks; the offset is from `reference` (optim/
+// A plane variable: one block (normal, offset), the offset from `reference` (optim/
 // structure_costs.h): {x : normal . (x - reference) = offset}.
 struct PlaneVariable {
-  Eigen::Vector3d normal;
-  double offset = 0;
+  Eigen::Vector4d plane = Eigen::Vector4d::Zero();
   Eigen::Vector3d reference = Eigen::Vector3d::Zero();
+  void Set(const Eigen::Vector3d& normal, double offset) { plane << normal, offset; }
+  Eigen::Vector3d normal() const { return plane.head<3>(); }
+  double* data() { return plane.data(); }
 };
 
 std::unique_ptr<ceres::LossFunction> MakeLoss(RobustLoss loss, double scale, double weight) {
@@ -51,41 +54,29 @@ std::unique_ptr<ceres::LossFunction> MakeLoss(RobustLoss loss, double scale, dou
   return std::make_unique<ceres::ScaledLoss>(robust, weight, ceres::TAKE_OWNERSHIP);
 }
 
-// The problem and what it refers to: losses and the manifold outlive it here.
+// The problem: its variables and residual blocks, owned here, solved by our Gauss-Newton
+// step (optim/gauss_newton.h) or handed to Ceres.
 class PoseProblem {
  public:
-  PoseProblem() : problem_(ProblemOptions()), planes_(PlaneProblemOptions()) {}
-
   void AddPose(Pose* pose) {
-    problem_.AddParameterBlock(pose->rotation_data(), 4, &quaternion_);
-    problem_.AddParameterBlock(pose->translation_data(), 3);
+    AddVariable(pose->rotation_data(), 4, &quaternion_, false);
+    AddVariable(pose->translation_data(), 3, nullptr, false);
   }
-  void AddPlane(PlaneVariable* plane) {
-    for (ceres::Problem* p : {&problem_, &planes_}) {
-      p->AddParameterBlock(plane->normal.data(), 3, &sphere_);
-      p->AddParameterBlock(&plane->offset, 1);
-    }
-  }
+  void AddPlane(PlaneVariable* plane) { AddVariable(plane->data(), 4, &plane_manifold_, true); }
   void FixPose(Pose* pose) {
-    problem_.SetParameterBlockConstant(pose->rotation_data());
-    problem_.SetParameterBlockConstant(pose->translation_data());
+    variables_[index_.at(pose->rotation_data())].constant = true;
+    variables_[index_.at(pose->translation_data())].constant = true;
   }
   void Add(const std::string& term, ceres::CostFunction* cost, ceres::LossFunction* loss,
-           std::vector<double*> blocks) {
-    problem_.AddResidualBlock(cost, loss, blocks);
+           std::vector<double*> blocks, bool structure = false) {
+    costs_.emplace_back(cost);
+    residuals_.push_back({cost, loss, blocks, structure});
     terms_[term].push_back({cost, loss, std::move(blocks)});
   }
   // A term of the structural model: also in the plane problem, where the poses are constant.
   void AddStructure(const std::string& term, ceres::CostFunction* cost, ceres::LossFunction* loss,
                     std::vector<double*> blocks) {
-    Add(term, cost, loss, blocks);
-    for (double* b : blocks) {
-      if (planes_.HasParameterBlock(b)) continue;
-      auto* manifold = const_cast<ceres::Manifold*>(problem_.GetManifold(b));  // ours: quaternion_
-      planes_.AddParameterBlock(b, problem_.ParameterBlockSize(b), manifold);
-      planes_.SetParameterBlockConstant(b);
-    }
-    planes_.AddResidualBlock(cost, loss, blocks);
+    Add(term, cost, loss, std::move(blocks), true);
   }
   // A batched pair block: its term's cost is its robust cost, not Ceres' (IRLS) one.
   void AddPair(const std::string& term, PairCost* cost, std::vector<double*> blocks) {
@@ -111,8 +102,8 @@ class PoseProblem {
   }
   // Each term's cost, 1/2 sum of robustified squares (as Ceres counts it), the blocks in
   // parallel: the cost functions are evaluated directly (no Jacobians), which reads the
-  // parameters and changes nothing, where Problem::EvaluateResidualBlock refreshes its blocks'
-  // state and must run alone. Summed in order, so the numbers do not depend on the threads.
+  // parameters and changes nothing. Summed in order, so the numbers do not depend on the
+  // threads.
   std::map<std::string, double> TermCosts() const {
     std::map<std::string, double> costs;
     for (const auto& entry : terms_) {
@@ -145,34 +136,83 @@ class PoseProblem {
     for (const auto& [term, list] : terms_) counts[term] = static_cast<int>(list.size());
     return counts;
   }
-  ceres::Problem& problem() { return problem_; }
-  // The structural model alone, the poses held: E_P, E_H, E_G and the planes' E_I.
-  ceres::Problem& planes() { return planes_; }
 
- private:
-  static ceres::Problem::Options ProblemOptions() {
+  // Our Gauss-Newton steps: every residual block, or the structural model alone with the
+  // poses held (planes_only).
+  GaussNewtonSummary SolveGaussNewton(bool planes_only, const GaussNewtonOptions& options) const {
+    GaussNewtonProblem problem;
+    std::vector<GaussNewtonResidual> residuals;
+    for (const Residual& r : residuals_) {
+      if (planes_only && !r.structure) continue;
+      for (double* b : r.blocks) {
+        if (problem.HasVariable(b)) continue;
+        const Variable& v = variables_[index_.at(b)];
+        problem.AddVariable(b, v.size, v.manifold, v.constant || (planes_only && !v.plane));
+      }
+      residuals.push_back({r.cost, r.loss, r.blocks});
+    }
+    return problem.Solve(residuals, options);
+  }
+  // Ceres on the same blocks.
+  ceres::Solver::Summary SolveCeres(bool planes_only, const ceres::Solver::Options& options) const {
     ceres::Problem::Options o;
+    o.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     o.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     o.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    return o;
+    ceres::Problem problem(o);
+    std::vector<char> used(variables_.size(), 0);
+    for (const Residual& r : residuals_) {
+      if (planes_only && !r.structure) continue;
+      for (double* b : r.blocks) used[index_.at(b)] = 1;
+    }
+    for (size_t i = 0; i < variables_.size(); ++i) {  // in their order, as Ceres orders its columns
+      const Variable& v = variables_[i];
+      if (!used[i]) continue;
+      problem.AddParameterBlock(v.x, v.size, const_cast<ceres::Manifold*>(v.manifold));
+      if (v.constant || (planes_only && !v.plane)) problem.SetParameterBlockConstant(v.x);
+    }
+    for (const Residual& r : residuals_) {
+      if (planes_only && !r.structure) continue;
+      problem.AddResidualBlock(const_cast<ceres::CostFunction*>(r.cost), const_cast<ceres::LossFunction*>(r.loss),
+                               r.blocks);
+    }
+    ceres::Solver::Summary summary;
+    ceres::Solve(options, &problem, &summary);
+    return summary;
   }
-  static ceres::Problem::Options PlaneProblemOptions() {
-    ceres::Problem::Options o = ProblemOptions();
-    o.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;  // problem_ owns them
-    return o;
+
+ private:
+  struct Variable {
+    double* x;
+    int size;
+    const ceres::Manifold* manifold;
+    bool plane;
+    bool constant = false;
+  };
+  void AddVariable(double* x, int size, const ceres::Manifold* manifold, bool plane) {
+    index_[x] = static_cast<int>(variables_.size());
+    variables_.push_back({x, size, manifold, plane});
   }
-  ceres::EigenQuaternionManifold quaternion_;
-  ceres::SphereManifold<3> sphere_;
-  std::map<std::pair<std::string, double>, std::unique_ptr<ceres::LossFunction>> losses_;
+  struct Residual {
+    const ceres::CostFunction* cost;
+    const ceres::LossFunction* loss;
+    std::vector<double*> blocks;
+    bool structure;  // of the structural model: in the plane problem
+  };
   struct ResidualTerm {
     const ceres::CostFunction* cost;
     const ceres::LossFunction* loss;
     std::vector<double*> blocks;
   };
+  ceres::EigenQuaternionManifold quaternion_;
+  PlaneManifold plane_manifold_;
+  std::vector<Variable> variables_;
+  std::unordered_map<const double*, int> index_;
+  std::map<std::pair<std::string, double>, std::unique_ptr<ceres::LossFunction>> losses_;
+  std::vector<std::unique_ptr<ceres::CostFunction>> costs_;
+  std::vector<Residual> residuals_;  // in the order they were added
   std::map<std::string, std::vector<ResidualTerm>> terms_;
   std::set<std::string> pair_blocks_;  // terms of batched pair blocks
-  ceres::Problem problem_;  // after what it points to: destroyed before it
-  ceres::Problem planes_;   // last: destroyed first, before the cost functions problem_ owns
 };
 
 }  // namespace
@@ -299,9 +339,9 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       const ChildProxy& c = structure.children[i];
       F2C_CHECK(c.frame >= 0 && c.frame < n, "child proxy frame in range");
       Pose& pose = (*poses)[c.frame];
-      children[i].normal = (pose.rotation * c.normal.cast<double>()).normalized();
+      const Eigen::Vector3d normal = (pose.rotation * c.normal.cast<double>()).normalized();
       children[i].reference = pose.rotation * c.centroid.cast<double>() + pose.translation;
-      children[i].offset = c.offset + children[i].normal.dot(pose.translation) - children[i].normal.dot(children[i].reference);
+      children[i].Set(normal, c.offset + normal.dot(pose.translation) - normal.dot(children[i].reference));
       pp.AddPlane(&children[i]);
       // E_P: w_P m_j / sum(m) times the members' mean squared distance.
       const double s = std::sqrt(options.weight_proxy * c.share / sum_p);
@@ -309,12 +349,12 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
                       ProxyFitCost::Create(c.centroid.cast<double>(), s * SqrtCovariance(c.covariance.cast<double>()),
                                            children[i].reference),
                       nullptr,
-                      {pose.rotation_data(), pose.translation_data(), children[i].normal.data(), &children[i].offset});
+                      {pose.rotation_data(), pose.translation_data(), children[i].data()});
     }
     for (size_t i = 0; i < parents.size(); ++i) {
-      parents[i].normal = structure.parents[i].normal.normalized();
+      const Eigen::Vector3d normal = structure.parents[i].normal.normalized();
       parents[i].reference = structure.parents[i].centre;
-      parents[i].offset = structure.parents[i].offset - parents[i].normal.dot(parents[i].reference);
+      parents[i].Set(normal, structure.parents[i].offset - normal.dot(parents[i].reference));
       pp.AddPlane(&parents[i]);
     }
     // E_H: w_H v / sum(v) per link.
@@ -330,7 +370,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       const auto [s, loss] =
           pp.Weigh(options.weight_coplanarity * l.weight / sum_h, options.coplanarity_loss_scale, kTermH);
       pp.AddStructure(kTermH, CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, s, c.reference, p.reference),
-                      loss, {c.normal.data(), &c.offset, p.normal.data(), &p.offset});
+                      loss, {c.data(), p.data()});
     }
     // E_G: w_G w_ab / sum(w) per relation.
     double sum_g = 0;
@@ -345,7 +385,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       ceres::CostFunction* cost = r.type == RelationType::kOrthogonal
                                       ? OrthogonalCost::Create(s)
                                       : ParallelCost::Create(r.type == RelationType::kParallel ? 1.0 : -1.0, s);
-      pp.AddStructure(kTermG, cost, loss, {parents[r.parent_a].normal.data(), parents[r.parent_b].normal.data()});
+      pp.AddStructure(kTermG, cost, loss, {parents[r.parent_a].data(), parents[r.parent_b].data()});
     }
   }
 
@@ -364,8 +404,8 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       const double sp = std::sqrt(options.weight_inertia / static_cast<double>(parents.size()));
       for (size_t i = 0; i < parents.size(); ++i) {
         PlaneVariable& v = parents[i];
-        pp.AddStructure(kTermI, PlaneChangeCost::Create(v.normal, v.offset, sp * options.rotation_lever_arm, sp),
-                        nullptr, {v.normal.data(), &v.offset});
+        pp.AddStructure(kTermI, PlaneChangeCost::Create(v.normal(), v.plane[3], sp * options.rotation_lever_arm, sp),
+                        nullptr, {v.data()});
       }
     }
   }
@@ -377,31 +417,57 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   // the planes are first solved to convergence, in a problem of their own (E_C, E_L and E_M
   // drop out, and need not be evaluated), and the joint step starts from planes in balance
   // with the current poses.
+  // Our Gauss-Newton step where it is the step asked for (optim/gauss_newton.h); Ceres where
+  // the options ask for it, to convergence, or where the normal equations are singular
+  // (Levenberg-Marquardt's damping then holds the free directions).
+  const bool own = options.linear_solver == LinearSolver::kDirect && options.solve == SolveMode::kOneStep;
   if (use_structure && options.solve == SolveMode::kOneStep && options.plane_presolve_iterations > 0) {
-    ceres::Solver::Options planes = BaseSolverOptions(options);
-    planes.max_num_iterations = options.plane_presolve_iterations;
-    ceres::Solver::Summary planes_summary;
-    ceres::Solve(planes, &pp.planes(), &planes_summary);
-    summary.plane_presolve_iterations = static_cast<int>(planes_summary.iterations.size()) - 1;
+    bool done = false;
+    if (own) {
+      GaussNewtonOptions planes;
+      planes.max_iterations = options.plane_presolve_iterations;
+      planes.function_tolerance = options.function_tolerance;
+      planes.ordering = GaussNewtonOptions::Ordering::kAmd;
+      const GaussNewtonSummary s = pp.SolveGaussNewton(true, planes);
+      summary.plane_presolve_iterations = s.iterations;
+      done = s.factorized;
+    }
+    if (!done) {
+      ceres::Solver::Options planes = BaseSolverOptions(options);
+      planes.max_num_iterations = options.plane_presolve_iterations;
+      const ceres::Solver::Summary s = pp.SolveCeres(true, planes);
+      summary.plane_presolve_iterations = static_cast<int>(s.iterations.size()) - 1;
+    }
   }
-  ceres::Solver::Options solver = BaseSolverOptions(options);
-  if (options.linear_solver == LinearSolver::kCgnr) {
-    solver.linear_solver_type = ceres::CGNR;
-    solver.preconditioner_type = ceres::JACOBI;
-    solver.max_linear_solver_iterations = options.max_linear_iterations;
+  bool solved = false;
+  if (own) {
+    GaussNewtonOptions step;
+    step.function_tolerance = options.function_tolerance;
+    const GaussNewtonSummary s = pp.SolveGaussNewton(false, step);
+    solved = s.factorized;
+    summary.iterations = s.iterations;
+    summary.termination = s.termination;
+    summary.usable = true;  // a rejected step leaves the poses as they were
   }
-  solver.max_num_iterations = options.solve == SolveMode::kOneStep ? 1 : options.max_iterations;
-  if (options.solve == SolveMode::kOneStep) {
-    // A huge trust region makes Levenberg-Marquardt's first step the Gauss-Newton step.
-    solver.initial_trust_region_radius = 1e16;
+  if (!solved) {
+    ceres::Solver::Options solver = BaseSolverOptions(options);
+    if (options.linear_solver == LinearSolver::kCgnr) {
+      solver.linear_solver_type = ceres::CGNR;
+      solver.preconditioner_type = ceres::JACOBI;
+      solver.max_linear_solver_iterations = options.max_linear_iterations;
+    }
+    solver.max_num_iterations = options.solve == SolveMode::kOneStep ? 1 : options.max_iterations;
+    if (options.solve == SolveMode::kOneStep) {
+      // A huge trust region makes Levenberg-Marquardt's first step the Gauss-Newton step.
+      solver.initial_trust_region_radius = 1e16;
+    }
+    const ceres::Solver::Summary s = pp.SolveCeres(false, solver);
+    summary.iterations = static_cast<int>(s.iterations.size()) - 1;
+    summary.termination = ceres::TerminationTypeToString(s.termination_type);
+    summary.usable = s.IsSolutionUsable();
+    for (const ceres::IterationSummary& it : s.iterations) summary.linear_iterations += it.linear_solver_iterations;
   }
-  ceres::Solver::Summary ceres_summary;
-  ceres::Solve(solver, &pp.problem(), &ceres_summary);
   summary.cost_after = pp.TermCosts();
-  summary.iterations = static_cast<int>(ceres_summary.iterations.size()) - 1;
-  summary.termination = ceres::TerminationTypeToString(ceres_summary.termination_type);
-  summary.usable = ceres_summary.IsSolutionUsable();
-  for (const ceres::IterationSummary& it : ceres_summary.iterations) summary.linear_iterations += it.linear_solver_iterations;
   if (!summary.usable) *poses = previous;  // a failed solve leaves the poses as they were
   for (Pose& p : *poses) p.rotation.normalize();
   if (!hold_first) {

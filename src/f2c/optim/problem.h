@@ -30,8 +30,9 @@ namespace f2c {
 // One Gauss-Newton step per refinement iteration (the authors), or Ceres to convergence.
 enum class SolveMode { kOneStep, kConverge };
 F2C_ENUM_NAMES(SolveMode, {{SolveMode::kOneStep, "one-step"}, {SolveMode::kConverge, "converge"}})
-enum class LinearSolver { kSparse, kCgnr };
-F2C_ENUM_NAMES(LinearSolver, {{LinearSolver::kSparse, "sparse"}, {LinearSolver::kCgnr, "cgnr"}})
+enum class LinearSolver { kDirect, kSparse, kCgnr };
+F2C_ENUM_NAMES(LinearSolver,
+               {{LinearSolver::kDirect, "direct"}, {LinearSolver::kSparse, "sparse"}, {LinearSolver::kCgnr, "cgnr"}})
 
 struct SolverOptions {
   // Term totals. The authors' code: E_C 1500 -> 1000 over the iterations, E_L 1000, E_I 1.
@@ -91,10 +92,15 @@ struct SolverOptions {
   // for up to this many iterations, so the joint step starts from planes in balance (0: off).
   int plane_presolve_iterations = 3;
   double function_tolerance = 1e-6;
-  // The linear solver: sparse Cholesky (SuiteSparse), exact; or conjugate gradients on the
-  // normal equations with a block-Jacobi preconditioner, whose memory grows with the
-  // constraints only (a Cholesky factor fills in as loops tie distant frames together).
-  LinearSolver linear_solver = LinearSolver::kSparse;
+  // The linear solver. kDirect: one-step solves (and the plane presolve) assemble the normal
+  // equations themselves and factor them by CHOLMOD (optim/gauss_newton.h): the same step as
+  // Ceres' at an infinite trust region, without Ceres' per-solve set-up (measured 2x faster
+  // at 900 frames, BENCHMARKS.md, seventeenth stop); converge mode, or normal equations that
+  // are not positive definite, fall back to kSparse. kSparse: Ceres with sparse Cholesky
+  // (SuiteSparse). kCgnr: Ceres with conjugate gradients on the normal equations and a
+  // block-Jacobi preconditioner, whose memory grows with the constraints only (a Cholesky
+  // factor fills in as loops tie distant frames together).
+  LinearSolver linear_solver = LinearSolver::kDirect;
   int max_linear_iterations = 100;
   // Ceres' threads; 0: as many as the thread pool allows (register --threads). The one-step
   // solve gave byte-identical poses for 1 and 2 threads (tested).
@@ -127,7 +133,8 @@ struct SolverOptions {
               "one-step: one Gauss-Newton step per iteration (the authors' code); converge: to convergence");
     F2C_FIELD(v, function_tolerance, "", Positive(), "Ceres' function tolerance (converge)");
     F2C_FIELD(v, linear_solver, "--linear-solver", {},
-              "sparse: Cholesky (exact); cgnr: conjugate gradients (memory linear in the constraints)");
+              "direct: our one-step Gauss-Newton, Cholesky by CHOLMOD (exact); sparse: Ceres' sparse "
+              "Cholesky (exact); cgnr: Ceres' conjugate gradients (memory linear in the constraints)");
     F2C_FIELD(v, max_linear_iterations, "--linear-iterations", AtLeast(1), "cgnr: iterations per step");
     F2C_FIELD(v, fix_first_pose, "--fix-first-pose", {},
               "hold frame 0 during each solve (else it moves with the rest and the poses are re-anchored)");

@@ -1,21 +1,30 @@
 #pragma once
 // The residuals of the paper's planar structure error E_S = w_P E_P + w_H E_H + w_G E_G
 // (§4.3, "Planar Structure Error"), as templated functors for ceres::AutoDiffCostFunction.
-// A plane is a variable of two blocks: a unit normal n (3, on ceres::SphereManifold<3>) and
-// an offset e (1) from a fixed reference point x_0 of the plane's own (its centre when the
-// iteration began): the plane {x : n . (x - x_0) = e}, in world coordinates, so d = n . x_0 + e
-// in the usual form n . x = d. Measured from the origin instead, a small turn of the normal
-// swings the plane by its distance from the origin times the angle, and one Gauss-Newton
-// step overshoots (Ceres rejects it); about the plane's centre the problem is near-linear. Poses are as in
+// A plane is one variable block of four numbers (n, e): a unit normal n and an offset e from
+// a fixed reference point x_0 of the plane's own (its centre when the iteration began), on
+// PlaneManifold (the sphere times the line): the plane {x : n . (x - x_0) = e}, in world
+// coordinates, so d = n . x_0 + e in the usual form n . x = d. Measured from the origin
+// instead, a small turn of the normal swings the plane by its distance from the origin times
+// the angle, and one Gauss-Newton step overshoots (Ceres rejects it); about the plane's
+// centre the problem is near-linear. One block rather than two (normal, offset), so that a
+// child plane, which only its frame's E_P and its parent's E_H touch, can be eliminated by
+// the Schur complement before the poses are solved (optim/problem.h). Poses are as in
 // optim/cost_functions.h (x_world = R(q) x_camera + t). Residuals are unweighted: metres, or
 // unit-vector differences; optim/problem.cc applies each term's weight.
 
 #include <ceres/autodiff_cost_function.h>
+#include <ceres/manifold.h>
+#include <ceres/product_manifold.h>
+#include <ceres/sphere_manifold.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
 namespace f2c {
+
+// A plane variable's manifold: (n, e) with |n| = 1.
+using PlaneManifold = ceres::ProductManifold<ceres::SphereManifold<3>, ceres::EuclideanManifold<1>>;
 
 // E_P, one per-image proxy (a child) against the features of its frame that support it:
 //   E_cp(P_j, T[k] F) = sum_i (n . (R x_i + t) - d)^2        x_i: the members, camera coords
@@ -33,12 +42,12 @@ struct ProxyFitCost {
       : centroid_(centroid), sqrt_covariance_(sqrt_covariance), reference_(reference) {}
 
   template <typename T>
-  bool operator()(const T* rotation, const T* translation, const T* normal, const T* offset, T* residual) const {
+  bool operator()(const T* rotation, const T* translation, const T* plane, T* residual) const {
     const Eigen::Map<const Eigen::Quaternion<T>> q(rotation);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n(normal);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n(plane);
     const Eigen::Matrix<T, 3, 1> h_n = q.conjugate() * n;
-    const T h_d = n.dot(t - reference_.cast<T>()) - offset[0];
+    const T h_d = n.dot(t - reference_.cast<T>()) - plane[3];
     residual[0] = h_n.dot(centroid_.cast<T>()) + h_d;
     const Eigen::Matrix<T, 3, 1> s = sqrt_covariance_.cast<T>() * h_n;
     residual[1] = s[0];
@@ -50,7 +59,7 @@ struct ProxyFitCost {
   // `reference`: the plane variable's x_0 (zero: the offset is d, from the origin).
   static ceres::CostFunction* Create(const Eigen::Vector3d& centroid, const Eigen::Matrix3d& sqrt_covariance,
                                      const Eigen::Vector3d& reference = Eigen::Vector3d::Zero()) {
-    return new ceres::AutoDiffCostFunction<ProxyFitCost, 4, 4, 3, 3, 1>(
+    return new ceres::AutoDiffCostFunction<ProxyFitCost, 4, 4, 3, 4>(
         new ProxyFitCost(centroid, sqrt_covariance, reference));
   }
 
@@ -77,13 +86,12 @@ struct CoplanarityCost {
       : anchor_(anchor), lever_(lever_arm), scale_(scale), child_ref_(child_reference), parent_ref_(parent_reference) {}
 
   template <typename T>
-  bool operator()(const T* child_normal, const T* child_offset, const T* parent_normal, const T* parent_offset,
-                  T* residual) const {
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n_c(child_normal);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n_p(parent_normal);
+  bool operator()(const T* child, const T* parent, T* residual) const {
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n_c(child);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n_p(parent);
     const Eigen::Matrix<T, 3, 1> a = anchor_.cast<T>();
-    const T d_c = n_c.dot(child_ref_.cast<T>()) + child_offset[0];
-    const T d_p = n_p.dot(parent_ref_.cast<T>()) + parent_offset[0];
+    const T d_c = n_c.dot(child_ref_.cast<T>()) + child[3];
+    const T d_p = n_p.dot(parent_ref_.cast<T>()) + parent[3];
     const Eigen::Matrix<T, 3, 1> p = a - (n_c.dot(a) - d_c) * n_c;
     residual[0] = T(scale_) * (n_p.dot(p) - d_p);
     for (int i = 0; i < 3; ++i) residual[1 + i] = T(scale_ * lever_) * (n_c[i] - n_p[i]);
@@ -94,7 +102,7 @@ struct CoplanarityCost {
   static ceres::CostFunction* Create(const Eigen::Vector3d& anchor, double lever_arm, double scale = 1,
                                      const Eigen::Vector3d& child_reference = Eigen::Vector3d::Zero(),
                                      const Eigen::Vector3d& parent_reference = Eigen::Vector3d::Zero()) {
-    return new ceres::AutoDiffCostFunction<CoplanarityCost, 4, 3, 1, 3, 1>(
+    return new ceres::AutoDiffCostFunction<CoplanarityCost, 4, 4, 4>(
         new CoplanarityCost(anchor, lever_arm, scale, child_reference, parent_reference));
   }
 
@@ -108,17 +116,18 @@ struct CoplanarityCost {
 //   parallel      r = n_a - n_b            (3 residuals)
 //   antiparallel  r = n_a + n_b            (3)
 //   orthogonal    r = n_a . n_b            (1)
-// multiplied by `scale` (the square root of the relation's weight).
+// multiplied by `scale` (the square root of the relation's weight). The blocks are planes;
+// only their normals enter.
 struct ParallelCost {
   ParallelCost(double sign, double scale) : sign_(sign), scale_(scale) {}
   template <typename T>
-  bool operator()(const T* normal_a, const T* normal_b, T* residual) const {
-    for (int i = 0; i < 3; ++i) residual[i] = T(scale_) * (normal_a[i] - T(sign_) * normal_b[i]);
+  bool operator()(const T* plane_a, const T* plane_b, T* residual) const {
+    for (int i = 0; i < 3; ++i) residual[i] = T(scale_) * (plane_a[i] - T(sign_) * plane_b[i]);
     return true;
   }
   // sign +1: parallel; -1: antiparallel.
   static ceres::CostFunction* Create(double sign, double scale = 1) {
-    return new ceres::AutoDiffCostFunction<ParallelCost, 3, 3, 3>(new ParallelCost(sign, scale));
+    return new ceres::AutoDiffCostFunction<ParallelCost, 3, 4, 4>(new ParallelCost(sign, scale));
   }
 
  private:
@@ -128,12 +137,12 @@ struct ParallelCost {
 struct OrthogonalCost {
   explicit OrthogonalCost(double scale) : scale_(scale) {}
   template <typename T>
-  bool operator()(const T* normal_a, const T* normal_b, T* residual) const {
-    residual[0] = T(scale_) * (normal_a[0] * normal_b[0] + normal_a[1] * normal_b[1] + normal_a[2] * normal_b[2]);
+  bool operator()(const T* plane_a, const T* plane_b, T* residual) const {
+    residual[0] = T(scale_) * (plane_a[0] * plane_b[0] + plane_a[1] * plane_b[1] + plane_a[2] * plane_b[2]);
     return true;
   }
   static ceres::CostFunction* Create(double scale = 1) {
-    return new ceres::AutoDiffCostFunction<OrthogonalCost, 1, 3, 3>(new OrthogonalCost(scale));
+    return new ceres::AutoDiffCostFunction<OrthogonalCost, 1, 4, 4>(new OrthogonalCost(scale));
   }
 
  private:
@@ -147,13 +156,13 @@ struct PlaneChangeCost {
   PlaneChangeCost(const Eigen::Vector3d& normal, double offset, double s_normal, double s_offset)
       : normal_(normal), offset_(offset), s_n_(s_normal), s_e_(s_offset) {}
   template <typename T>
-  bool operator()(const T* normal, const T* offset, T* residual) const {
-    for (int i = 0; i < 3; ++i) residual[i] = T(s_n_) * (normal[i] - T(normal_[i]));
-    residual[3] = T(s_e_) * (offset[0] - T(offset_));
+  bool operator()(const T* plane, T* residual) const {
+    for (int i = 0; i < 3; ++i) residual[i] = T(s_n_) * (plane[i] - T(normal_[i]));
+    residual[3] = T(s_e_) * (plane[3] - T(offset_));
     return true;
   }
   static ceres::CostFunction* Create(const Eigen::Vector3d& normal, double offset, double s_normal, double s_offset) {
-    return new ceres::AutoDiffCostFunction<PlaneChangeCost, 4, 3, 1>(
+    return new ceres::AutoDiffCostFunction<PlaneChangeCost, 4, 4>(
         new PlaneChangeCost(normal, offset, s_normal, s_offset));
   }
 

@@ -1,6 +1,5 @@
 #include "f2c/optim/structure_costs.h"
 
-#include <ceres/sphere_manifold.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -37,7 +36,7 @@ Members MembersOf(const Pose& pose, const Eigen::Vector3d& n, double d, std::mt1
 class StructureCosts : public ::testing::Test {
  protected:
   ceres::EigenQuaternionManifold quaternion_;
-  ceres::SphereManifold<3> sphere_;
+  PlaneManifold plane_;
   std::mt19937 rng_{11};
 };
 
@@ -54,7 +53,8 @@ TEST_F(StructureCosts, ProxyFitVanishesOnThePlaneAndIsTheMeanSquaredDistanceOffI
   double d = 1.7;
   const Members exact = MembersOf(pose, n, d, rng_, 0.0);
   std::unique_ptr<ceres::CostFunction> cost(ProxyFitCost::Create(exact.centroid, SqrtCovariance(exact.covariance)));
-  std::vector<double*> blocks = {pose.rotation_data(), pose.translation_data(), n.data(), &d};
+  Eigen::Vector4d plane(n.x(), n.y(), n.z(), d);
+  std::vector<double*> blocks = {pose.rotation_data(), pose.translation_data(), plane.data()};
   // Zero up to rounding: 4e-9 m with clang at -O1 (the square root of the covariance).
   for (double r : Residuals(*cost, blocks)) EXPECT_NEAR(r, 0, 1e-8);
 
@@ -62,8 +62,8 @@ TEST_F(StructureCosts, ProxyFitVanishesOnThePlaneAndIsTheMeanSquaredDistanceOffI
   // summed point by point here.
   const Members noisy = MembersOf(pose, n, d, rng_, 0.01);
   cost.reset(ProxyFitCost::Create(noisy.centroid, SqrtCovariance(noisy.covariance)));
-  double moved = d + 0.03;
-  blocks[3] = &moved;
+  const double moved = d + 0.03;
+  plane[3] = moved;
   double expected = 0;
   for (const auto& x : noisy.points) expected += std::pow(n.dot(pose.rotation * x + pose.translation) - moved, 2);
   expected /= noisy.points.size();
@@ -71,26 +71,25 @@ TEST_F(StructureCosts, ProxyFitVanishesOnThePlaneAndIsTheMeanSquaredDistanceOffI
   for (double r : Residuals(*cost, blocks)) got += r * r;
   EXPECT_NEAR(got, expected, 1e-12);
   EXPECT_GT(got, 0.02 * 0.02);
-  ExpectJacobiansMatch(*cost, blocks, {&quaternion_, nullptr, &sphere_, nullptr});
+  ExpectJacobiansMatch(*cost, blocks, {&quaternion_, nullptr, &plane_});
 }
 
 TEST_F(StructureCosts, CoplanarityVanishesForTheSamePlaneAndIsHandComputedOtherwise) {
-  Eigen::Vector3d parent_n(0, 0, 1), child_n(0, 0, 1);
-  double parent_d = 0, child_d = 0;
+  Eigen::Vector4d parent(0, 0, 1, 0), child(0, 0, 1, 0);  // (n, d)
   std::unique_ptr<ceres::CostFunction> cost(CoplanarityCost::Create(Eigen::Vector3d(1, 2, 0.3), 2.0));
-  std::vector<double*> blocks = {child_n.data(), &child_d, parent_n.data(), &parent_d};
+  std::vector<double*> blocks = {child.data(), parent.data()};
   for (double r : Residuals(*cost, blocks)) EXPECT_NEAR(r, 0, 1e-12);  // the anchor need not lie on it
 
   // The child 0.1 m above: its foot of the anchor is (1, 2, 0.1), 0.1 m off the parent.
-  child_d = 0.1;
+  child[3] = 0.1;
   std::vector<double> r = Residuals(*cost, blocks);
   EXPECT_NEAR(r[0], 0.1, 1e-12);
   EXPECT_NEAR(r[1], 0, 1e-12);
   // Tilted by a about y through the origin: foot p = a - (n . a) n, r[0] = p_z, and the
   // normals differ by (sin a, 0, cos a - 1) at the lever arm 2.
   const double angle = 0.2;
-  child_n = Eigen::Vector3d(std::sin(angle), 0, std::cos(angle));
-  child_d = 0;
+  const Eigen::Vector3d child_n(std::sin(angle), 0, std::cos(angle));
+  child << child_n, 0;
   const Eigen::Vector3d anchor(1, 2, 0.3);
   const Eigen::Vector3d foot = anchor - child_n.dot(anchor) * child_n;
   r = Residuals(*cost, blocks);
@@ -100,24 +99,24 @@ TEST_F(StructureCosts, CoplanarityVanishesForTheSamePlaneAndIsHandComputedOtherw
   EXPECT_NEAR(r[3], 2 * (std::cos(angle) - 1), 1e-12);
   std::unique_ptr<ceres::CostFunction> scaled(CoplanarityCost::Create(anchor, 2.0, 3.0));
   EXPECT_NEAR(Residuals(*scaled, blocks)[1], 3 * r[1], 1e-12);
-  child_d = 0.05;
-  ExpectJacobiansMatch(*cost, blocks, {&sphere_, nullptr, &sphere_, nullptr});
+  child[3] = 0.05;
+  ExpectJacobiansMatch(*cost, blocks, {&plane_, &plane_});
 }
 
 TEST_F(StructureCosts, RelationsVanishWhenMetAndAreHandComputedOtherwise) {
-  Eigen::Vector3d a(1, 0, 0), b(1, 0, 0);
+  Eigen::Vector4d a(1, 0, 0, 0.5), b(1, 0, 0, -2);  // the offsets do not enter
   std::unique_ptr<ceres::CostFunction> parallel(ParallelCost::Create(1.0));
   std::unique_ptr<ceres::CostFunction> antiparallel(ParallelCost::Create(-1.0, 2.0));
   std::unique_ptr<ceres::CostFunction> orthogonal(OrthogonalCost::Create(3.0));
   std::vector<double*> blocks = {a.data(), b.data()};
   for (double r : Residuals(*parallel, blocks)) EXPECT_NEAR(r, 0, 1e-15);
-  b = -a;
+  b.head<3>() = -a.head<3>();
   for (double r : Residuals(*antiparallel, blocks)) EXPECT_NEAR(r, 0, 1e-15);
-  b = Eigen::Vector3d(0, 0, 1);
+  b.head<3>() = Eigen::Vector3d(0, 0, 1);
   EXPECT_NEAR(Residuals(*orthogonal, blocks)[0], 0, 1e-15);
 
   const double theta = 80 * M_PI / 180;
-  b = Eigen::Vector3d(std::cos(theta), std::sin(theta), 0);
+  b.head<3>() = Eigen::Vector3d(std::cos(theta), std::sin(theta), 0);
   EXPECT_NEAR(Residuals(*orthogonal, blocks)[0], 3 * std::cos(theta), 1e-15);
   std::vector<double> r = Residuals(*parallel, blocks);
   EXPECT_NEAR(r[0], 1 - std::cos(theta), 1e-15);
@@ -125,23 +124,21 @@ TEST_F(StructureCosts, RelationsVanishWhenMetAndAreHandComputedOtherwise) {
   r = Residuals(*antiparallel, blocks);
   EXPECT_NEAR(r[0], 2 * (1 + std::cos(theta)), 1e-15);
   for (auto* cost : {parallel.get(), antiparallel.get(), orthogonal.get()}) {
-    ExpectJacobiansMatch(*cost, blocks, {&sphere_, &sphere_});
+    ExpectJacobiansMatch(*cost, blocks, {&plane_, &plane_});
   }
 }
 
 TEST_F(StructureCosts, PlaneChangeVanishesAtThePreviousPlaneAndMeasuresTheChange) {
   const Eigen::Vector3d n0 = Eigen::Vector3d(1, 2, 2) / 3;
-  Eigen::Vector3d n = n0;
-  double e = 0.5;
+  Eigen::Vector4d plane(n0.x(), n0.y(), n0.z(), 0.5);
   std::unique_ptr<ceres::CostFunction> cost(PlaneChangeCost::Create(n0, 0.5, 2.0, 3.0));
-  std::vector<double*> blocks = {n.data(), &e};
+  std::vector<double*> blocks = {plane.data()};
   for (double r : Residuals(*cost, blocks)) EXPECT_NEAR(r, 0, 1e-15);
-  n = Eigen::Vector3d(0, 0, 1);
-  e = 0.6;
+  plane << 0, 0, 1, 0.6;
   const std::vector<double> r = Residuals(*cost, blocks);
   EXPECT_NEAR(r[2], 2 * (1 - 2.0 / 3), 1e-15);
   EXPECT_NEAR(r[3], 3 * 0.1, 1e-12);
-  ExpectJacobiansMatch(*cost, blocks, {&sphere_, nullptr});
+  ExpectJacobiansMatch(*cost, blocks, {&plane_});
 }
 
 // With reference points the same planes give the same residuals: an offset e from x_0 is
@@ -153,22 +150,23 @@ TEST_F(StructureCosts, ReferencePointsOnlyMoveWhereOffsetsAreMeasuredFrom) {
   double d = 1.3, d_p = 1.25;
   const Members members = MembersOf(pose, n, d, rng, 0.01);
   const Eigen::Vector3d x0(0.5, -1, 2), x0_p(3, 1, -1), anchor(1, 1, 1);
-  double e = d - n.dot(x0), e_p = d_p - n_p.dot(x0_p);
+  Eigen::Vector4d plane_d(n.x(), n.y(), n.z(), d), plane_e(n.x(), n.y(), n.z(), d - n.dot(x0));
+  Eigen::Vector4d parent_d(n_p.x(), n_p.y(), n_p.z(), d_p), parent_e(n_p.x(), n_p.y(), n_p.z(), d_p - n_p.dot(x0_p));
   const Eigen::Matrix3d sqrt_cov = SqrtCovariance(members.covariance);
   std::unique_ptr<ceres::CostFunction> fit(ProxyFitCost::Create(members.centroid, sqrt_cov));
   std::unique_ptr<ceres::CostFunction> fit_ref(ProxyFitCost::Create(members.centroid, sqrt_cov, x0));
-  const std::vector<double> a = Residuals(*fit, {pose.rotation_data(), pose.translation_data(), n.data(), &d});
-  const std::vector<double> b = Residuals(*fit_ref, {pose.rotation_data(), pose.translation_data(), n.data(), &e});
+  const std::vector<double> a = Residuals(*fit, {pose.rotation_data(), pose.translation_data(), plane_d.data()});
+  const std::vector<double> b = Residuals(*fit_ref, {pose.rotation_data(), pose.translation_data(), plane_e.data()});
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(a[i], b[i], 1e-12);
   std::unique_ptr<ceres::CostFunction> cop(CoplanarityCost::Create(anchor, 1.5, 2.0));
   std::unique_ptr<ceres::CostFunction> cop_ref(CoplanarityCost::Create(anchor, 1.5, 2.0, x0, x0_p));
-  const std::vector<double> c = Residuals(*cop, {n.data(), &d, n_p.data(), &d_p});
-  const std::vector<double> f = Residuals(*cop_ref, {n.data(), &e, n_p.data(), &e_p});
+  const std::vector<double> c = Residuals(*cop, {plane_d.data(), parent_d.data()});
+  const std::vector<double> f = Residuals(*cop_ref, {plane_e.data(), parent_e.data()});
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(c[i], f[i], 1e-12);
   EXPECT_GT(std::abs(c[0]), 0.01);
-  ExpectJacobiansMatch(*fit_ref, {pose.rotation_data(), pose.translation_data(), n.data(), &e},
-                       {&quaternion_, nullptr, &sphere_, nullptr});
-  ExpectJacobiansMatch(*cop_ref, {n.data(), &e, n_p.data(), &e_p}, {&sphere_, nullptr, &sphere_, nullptr});
+  ExpectJacobiansMatch(*fit_ref, {pose.rotation_data(), pose.translation_data(), plane_e.data()},
+                       {&quaternion_, nullptr, &plane_});
+  ExpectJacobiansMatch(*cop_ref, {plane_e.data(), parent_e.data()}, {&plane_, &plane_});
 }
 
 }  // namespace

@@ -1,0 +1,454 @@
+#include "f2c/optim/gauss_newton.h"
+
+#include <cholmod.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+
+#include "f2c/util/error.h"
+
+namespace f2c {
+
+void GaussNewtonProblem::AddVariable(double* x, int size, const ceres::Manifold* manifold, bool constant) {
+  F2C_CHECK(index_.count(x) == 0, "a variable is added once");
+  F2C_CHECK(manifold == nullptr || manifold->AmbientSize() == size, "the manifold fits the variable");
+  index_[x] = static_cast<int>(variables_.size());
+  variables_.push_back({x, size, manifold, constant});
+}
+
+namespace {
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// One residual block at the current variables: its cost and, linearised, its share of the
+// normal equations: per free block i its gradient J_i^T r, and per pair i <= j of free blocks
+// J_i^T J_j (transposed where the variables' order is the other way round).
+// Stored flat, in one buffer: the gradients in the blocks' order, then the products (i, j),
+// i <= j, in row order (0,0), (0,1), ..., (1,1), ..., each column-major.
+struct Linearised {
+  bool ok = true;
+  double cost = 0;
+  std::vector<int> vars;  // the free blocks' variables
+  std::vector<double> values;
+};
+
+// 1/2 rho(|r|^2), and Ceres' corrector for it: residuals scaled by `residual_scale`, the
+// Jacobian J <- sqrt(rho') (J - alpha_sq_norm r r^T J) (with the residuals before scaling).
+struct Corrector {
+  double cost;
+  double residual_scale = 1;
+  double jacobian_scale = 1;
+  double alpha_sq_norm = 0;
+};
+
+Corrector Correct(const ceres::LossFunction* loss, double sq_norm) {
+  if (loss == nullptr) return {0.5 * sq_norm};
+  double rho[3];
+  loss->Evaluate(sq_norm, rho);
+  Corrector c{0.5 * rho[0]};
+  const double sqrt_rho1 = std::sqrt(std::max(rho[1], 0.0));
+  c.jacobian_scale = sqrt_rho1;
+  c.residual_scale = sqrt_rho1;
+  if (sq_norm > 0 && rho[2] > 0 && rho[1] > 0) {
+    const double d = 1 + 2 * sq_norm * rho[2] / rho[1];
+    const double alpha = 1 - std::sqrt(d);
+    c.residual_scale = sqrt_rho1 / (1 - alpha);
+    c.alpha_sq_norm = alpha / sq_norm;
+  }
+  return c;
+}
+
+// The normal equations' pattern: the upper triangle of the variables' blocks (diagonal blocks
+// stored whole; CHOLMOD reads only their upper part), as compressed columns.
+class Pattern {
+ public:
+  Pattern(const std::vector<Linearised>& blocks, const std::vector<int>& start, const std::vector<int>& tangent)
+      : start_(start), tangent_(tangent) {
+    const int nv = static_cast<int>(start.size());
+    rows_.resize(nv);
+    for (const Linearised& l : blocks) {
+      for (size_t i = 0; i < l.vars.size(); ++i) {
+        for (size_t j = i; j < l.vars.size(); ++j) {
+          const int a = std::min(l.vars[i], l.vars[j]), b = std::max(l.vars[i], l.vars[j]);
+          rows_[b].push_back(a);
+        }
+      }
+    }
+    offsets_.resize(nv);
+    column_pointers_.push_back(0);
+    for (int b = 0; b < nv; ++b) {
+      if (start[b] < 0) continue;
+      std::vector<int>& r = rows_[b];
+      std::sort(r.begin(), r.end());
+      r.erase(std::unique(r.begin(), r.end()), r.end());
+      int length = 0;
+      for (int a : r) {
+        offsets_[b].push_back(length);
+        length += tangent[a];
+      }
+      for (int q = 0; q < tangent[b]; ++q) {
+        for (int a : r) {
+          for (int p = 0; p < tangent[a]; ++p) row_indices_.push_back(start[a] + p);
+        }
+        column_pointers_.push_back(static_cast<int>(row_indices_.size()));
+      }
+    }
+    values_.assign(row_indices_.size(), 0.0);
+  }
+
+  // Adds `block` (tangent[a] x tangent[b], column-major) at variables (a, b), a <= b.
+  void Add(int a, int b, const double* block) {
+    const std::vector<int>& r = rows_[b];
+    const int k = static_cast<int>(std::lower_bound(r.begin(), r.end(), a) - r.begin());
+    const int offset = offsets_[b][k];
+    for (int q = 0; q < tangent_[b]; ++q) {
+      double* column = values_.data() + column_pointers_[start_[b] + q] + offset;
+      for (int p = 0; p < tangent_[a]; ++p) column[p] += block[q * tangent_[a] + p];
+    }
+  }
+
+  // y = H x, H symmetric from its upper triangle.
+  Eigen::VectorXd Multiply(const Eigen::VectorXd& x) const {
+    Eigen::VectorXd y = Eigen::VectorXd::Zero(x.size());
+    for (int c = 0; c + 1 < static_cast<int>(column_pointers_.size()); ++c) {
+      for (int k = column_pointers_[c]; k < column_pointers_[c + 1]; ++k) {
+        const int r = row_indices_[k];
+        if (r > c) continue;  // the lower part of a diagonal block
+        y[r] += values_[k] * x[c];
+        if (r < c) y[c] += values_[k] * x[r];
+      }
+    }
+    return y;
+  }
+
+  // A fill-reducing ordering of the scalar columns, found on the blocks' graph (a ninth of
+  // the scalar one's entries, so the ordering costs a fraction of what it does on the
+  // scalars) by CHOLMOD's nested dissection, each block's columns kept together. Empty if
+  // CHOLMOD fails.
+  std::vector<int> NestedDissection(cholmod_common* common) const {
+    std::vector<int> node_of(start_.size(), -1), variable_of;
+    for (size_t v = 0; v < start_.size(); ++v) {
+      if (start_[v] < 0) continue;
+      node_of[v] = static_cast<int>(variable_of.size());
+      variable_of.push_back(static_cast<int>(v));
+    }
+    std::vector<int> p{0}, i;
+    for (int v : variable_of) {
+      for (int a : rows_[v]) i.push_back(node_of[a]);
+      p.push_back(static_cast<int>(i.size()));
+    }
+    const int n = static_cast<int>(variable_of.size());
+    cholmod_sparse graph{};
+    graph.nrow = graph.ncol = n;
+    graph.nzmax = i.size();
+    graph.p = p.data();
+    graph.i = i.data();
+    graph.stype = 1;
+    graph.itype = CHOLMOD_INT;
+    graph.xtype = CHOLMOD_PATTERN;
+    graph.dtype = CHOLMOD_DOUBLE;
+    graph.sorted = 1;
+    graph.packed = 1;
+    std::vector<int> perm(n), parent(n), member(n);
+    if (cholmod_nested_dissection(&graph, nullptr, 0, perm.data(), parent.data(), member.data(), common) < 0) return {};
+    std::vector<int> scalar;
+    for (int node : perm) {
+      const int v = variable_of[node];
+      for (int q = 0; q < tangent_[v]; ++q) scalar.push_back(start_[v] + q);
+    }
+    return scalar;
+  }
+
+  std::vector<int>& column_pointers() { return column_pointers_; }
+  std::vector<int>& row_indices() { return row_indices_; }
+  std::vector<double>& values() { return values_; }
+
+ private:
+  const std::vector<int>& start_;
+  const std::vector<int>& tangent_;
+  std::vector<std::vector<int>> rows_;     // per block column: its block rows, sorted
+  std::vector<std::vector<int>> offsets_;  // per block column: each block row's first scalar row
+  std::vector<int> column_pointers_, row_indices_;
+  std::vector<double> values_;
+};
+
+// H x = b by CHOLMOD's Cholesky (H from its upper triangle). The symbolic analysis (the fill-
+// reducing ordering and the factor's structure) is done once, at the first solve: the steps
+// of one Solve share their pattern.
+class Cholesky {
+ public:
+  explicit Cholesky(GaussNewtonOptions::Ordering ordering) : ordering_(ordering) {
+    cholmod_start(&common_);
+    common_.print = 0;
+    common_.nmethods = 1;  // only the ordering asked for, not CHOLMOD's trial of several
+    common_.method[0].ordering = CHOLMOD_AMD;
+  }
+  ~Cholesky() {
+    if (factor_ != nullptr) cholmod_free_factor(&factor_, &common_);
+    cholmod_finish(&common_);
+  }
+  Cholesky(const Cholesky&) = delete;
+  Cholesky& operator=(const Cholesky&) = delete;
+
+  // False if H is not positive definite (or CHOLMOD fails otherwise).
+  bool Solve(Pattern* h, const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+    const int n = static_cast<int>(b.size());
+    cholmod_sparse a{};
+    a.nrow = a.ncol = n;
+    a.nzmax = h->values().size();
+    a.p = h->column_pointers().data();
+    a.i = h->row_indices().data();
+    a.x = h->values().data();
+    a.stype = 1;
+    a.itype = CHOLMOD_INT;
+    a.xtype = CHOLMOD_REAL;
+    a.dtype = CHOLMOD_DOUBLE;
+    a.sorted = 1;
+    a.packed = 1;
+    if (factor_ == nullptr && ordering_ == GaussNewtonOptions::Ordering::kNestedDissection) {
+      std::vector<int> perm = h->NestedDissection(&common_);
+      if (static_cast<int>(perm.size()) == n) {
+        common_.method[0].ordering = CHOLMOD_GIVEN;
+        factor_ = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &common_);
+      }
+    }
+    if (factor_ == nullptr) {
+      common_.method[0].ordering = CHOLMOD_AMD;
+      factor_ = cholmod_analyze(&a, &common_);
+    }
+    if (factor_ == nullptr || !cholmod_factorize(&a, factor_, &common_) || common_.status != CHOLMOD_OK) return false;
+    cholmod_dense rhs{};
+    rhs.nrow = n;
+    rhs.ncol = 1;
+    rhs.nzmax = n;
+    rhs.d = n;
+    rhs.x = const_cast<double*>(b.data());
+    rhs.xtype = CHOLMOD_REAL;
+    rhs.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense* solution = cholmod_solve(CHOLMOD_A, factor_, &rhs, &common_);
+    if (solution == nullptr) return false;
+    *x = Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(solution->x), n);
+    cholmod_free_dense(&solution, &common_);
+    return x->allFinite();
+  }
+
+ private:
+  GaussNewtonOptions::Ordering ordering_;
+  cholmod_common common_;
+  cholmod_factor* factor_ = nullptr;
+};
+
+}  // namespace
+
+GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidual>& residuals,
+                                            const GaussNewtonOptions& options) const {
+  const int nv = static_cast<int>(variables_.size());
+  std::vector<int> start(nv, -1), tangent(nv, 0);
+  int columns = 0;
+  for (int v = 0; v < nv; ++v) {
+    const Variable& var = variables_[v];
+    tangent[v] = var.manifold != nullptr ? var.manifold->TangentSize() : var.size;
+    if (var.constant) continue;
+    start[v] = columns;
+    columns += tangent[v];
+  }
+  std::vector<std::vector<int>> block_vars(residuals.size());
+  for (size_t i = 0; i < residuals.size(); ++i) {
+    for (double* b : residuals[i].blocks) {
+      const auto it = index_.find(b);
+      F2C_CHECK(it != index_.end(), "every residual block's parameters are variables");
+      block_vars[i].push_back(it->second);
+    }
+  }
+
+  // The total cost at the variables' current values (no Jacobians), summed in order.
+  auto total_cost = [&](bool* ok) {
+    std::vector<double> costs(residuals.size(), 0.0);
+    std::vector<char> good(residuals.size(), 1);
+    tbb::parallel_for(size_t{0}, residuals.size(), [&](size_t i) {
+      const GaussNewtonResidual& res = residuals[i];
+      Eigen::VectorXd r(res.cost->num_residuals());
+      if (!res.cost->Evaluate(res.blocks.data(), r.data(), nullptr) || !r.allFinite()) {
+        good[i] = 0;
+        return;
+      }
+      costs[i] = Correct(res.loss, r.squaredNorm()).cost;
+    });
+    double cost = 0;
+    for (size_t i = 0; i < costs.size(); ++i) {
+      cost += costs[i];
+      *ok = *ok && good[i];
+    }
+    return cost;
+  };
+
+  GaussNewtonSummary summary;
+  bool ok = true;
+  summary.initial_cost = summary.final_cost = total_cost(&ok);
+  if (!ok) {
+    summary.termination = "the residuals are not finite at the start";
+    return summary;
+  }
+  if (columns == 0) {
+    summary.termination = "nothing to solve";
+    return summary;
+  }
+  std::vector<RowMatrix> plus_jacobians(nv);
+  Cholesky cholesky(options.ordering);
+  for (int it = 0; it < options.max_iterations; ++it) {
+    for (int v = 0; v < nv; ++v) {
+      const Variable& var = variables_[v];
+      if (var.constant || var.manifold == nullptr) continue;
+      plus_jacobians[v].resize(var.size, tangent[v]);
+      var.manifold->PlusJacobian(var.x, plus_jacobians[v].data());
+    }
+    // Each block linearised in parallel into its own slot; scratch space per chunk of blocks.
+    std::vector<Linearised> linear(residuals.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, residuals.size()), [&](const tbb::blocked_range<size_t>& range) {
+      std::vector<double> r, ambient, tangents;
+      for (size_t i = range.begin(); i != range.end(); ++i) {
+        const GaussNewtonResidual& res = residuals[i];
+        Linearised& l = linear[i];
+        const int m = res.cost->num_residuals();
+        const int nb = static_cast<int>(res.blocks.size());
+        // The ambient Jacobians side by side (each m x size, row-major), then the tangent ones.
+        int ambient_size = 0, tangent_size = 0;
+        for (int b = 0; b < nb; ++b) {
+          const int v = block_vars[i][b];
+          if (variables_[v].constant) continue;
+          ambient_size += variables_[v].size;
+          tangent_size += tangent[v];
+          l.vars.push_back(v);
+        }
+        r.resize(m);
+        ambient.resize(static_cast<size_t>(m) * ambient_size);
+        tangents.resize(static_cast<size_t>(m) * tangent_size);
+        double* jacobians[16] = {};
+        F2C_CHECK(nb <= 16, "at most 16 parameter blocks per residual block");
+        for (int b = 0, offset = 0; b < nb; ++b) {
+          const Variable& var = variables_[block_vars[i][b]];
+          if (var.constant) continue;
+          jacobians[b] = ambient.data() + static_cast<size_t>(m) * offset;
+          offset += var.size;
+        }
+        if (!res.cost->Evaluate(res.blocks.data(), r.data(), jacobians) ||
+            !Eigen::Map<const Eigen::VectorXd>(r.data(), m).allFinite()) {
+          l.ok = false;
+          continue;
+        }
+        const Eigen::Map<Eigen::VectorXd> residual(r.data(), m);
+        const Corrector c = Correct(res.loss, residual.squaredNorm());
+        l.cost = c.cost;
+        std::vector<Eigen::Map<RowMatrix>> j;
+        for (size_t k = 0, a_off = 0, t_off = 0; k < l.vars.size(); ++k) {
+          const int v = l.vars[k];
+          const Variable& var = variables_[v];
+          Eigen::Map<const RowMatrix> jac_ambient(ambient.data() + m * a_off, m, var.size);
+          j.emplace_back(tangents.data() + m * t_off, m, tangent[v]);
+          if (var.manifold != nullptr) {
+            j.back().noalias() = jac_ambient * plus_jacobians[v];
+          } else {
+            j.back() = jac_ambient;
+          }
+          if (c.alpha_sq_norm != 0) j.back() -= c.alpha_sq_norm * residual * (residual.transpose() * j.back());
+          j.back() *= c.jacobian_scale;
+          a_off += var.size;
+          t_off += tangent[v];
+        }
+        size_t total = 0;
+        for (size_t a = 0; a < l.vars.size(); ++a) {
+          total += tangent[l.vars[a]];
+          for (size_t b = a; b < l.vars.size(); ++b) total += tangent[l.vars[a]] * tangent[l.vars[b]];
+        }
+        l.values.resize(total);
+        double* out = l.values.data();
+        for (size_t a = 0; a < l.vars.size(); ++a) {
+          Eigen::Map<Eigen::VectorXd> g(out, tangent[l.vars[a]]);
+          g.noalias() = c.residual_scale * (j[a].transpose() * residual);
+          out += g.size();
+        }
+        for (size_t a = 0; a < l.vars.size(); ++a) {
+          for (size_t b = a; b < l.vars.size(); ++b) {
+            // Stored as (lower-numbered variable, higher): transposed where the order is reversed.
+            const bool ordered = l.vars[a] <= l.vars[b];
+            const size_t lo = ordered ? a : b, hi = ordered ? b : a;
+            Eigen::Map<Eigen::MatrixXd> p(out, tangent[l.vars[lo]], tangent[l.vars[hi]]);
+            p.noalias() = j[lo].transpose() * j[hi];
+            out += p.size();
+          }
+        }
+      }
+    });
+    for (const Linearised& l : linear) {
+      if (!l.ok) {
+        summary.termination = "the residuals or Jacobians are not finite";
+        return summary;
+      }
+    }
+    // Summed in the blocks' order.
+    Pattern h(linear, start, tangent);
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(columns);
+    for (const Linearised& l : linear) {
+      const double* in = l.values.data();
+      for (int v : l.vars) {
+        g.segment(start[v], tangent[v]) += Eigen::Map<const Eigen::VectorXd>(in, tangent[v]);
+        in += tangent[v];
+      }
+      for (size_t a = 0; a < l.vars.size(); ++a) {
+        for (size_t b = a; b < l.vars.size(); ++b) {
+          const int lo = std::min(l.vars[a], l.vars[b]), hi = std::max(l.vars[a], l.vars[b]);
+          h.Add(lo, hi, in);
+          in += tangent[lo] * tangent[hi];
+        }
+      }
+    }
+    linear.clear();
+    ++summary.iterations;
+    Eigen::VectorXd step;
+    if (!cholesky.Solve(&h, -g, &step)) {
+      summary.factorized = false;
+      summary.termination = "the normal equations are not positive definite";
+      return summary;
+    }
+    const double model_decrease = -(g.dot(step) + 0.5 * step.dot(h.Multiply(step)));
+    // The step, each variable on its manifold; the old values kept to go back to.
+    std::vector<std::vector<double>> saved(nv);
+    for (int v = 0; v < nv; ++v) {
+      const Variable& var = variables_[v];
+      if (var.constant) continue;
+      saved[v].assign(var.x, var.x + var.size);
+      const double* delta = step.data() + start[v];
+      if (var.manifold != nullptr) {
+        var.manifold->Plus(saved[v].data(), delta, var.x);
+      } else {
+        for (int k = 0; k < var.size; ++k) var.x[k] = saved[v][k] + delta[k];
+      }
+    }
+    bool new_ok = true;
+    const double new_cost = total_cost(&new_ok);
+    const double decrease = summary.final_cost - new_cost;
+    if (!new_ok || model_decrease <= 0 || decrease / model_decrease < options.min_relative_decrease) {
+      for (int v = 0; v < nv; ++v) {
+        if (!saved[v].empty()) std::copy(saved[v].begin(), saved[v].end(), variables_[v].x);
+      }
+      summary.termination = "step rejected";
+      return summary;
+    }
+    ++summary.accepted;
+    const double previous = summary.final_cost;
+    summary.final_cost = new_cost;
+    if (std::abs(previous - new_cost) <= options.function_tolerance * previous) {
+      summary.termination = "converged";
+      return summary;
+    }
+    summary.termination = "iteration limit";
+  }
+  return summary;
+}
+
+}  // namespace f2c

@@ -1,0 +1,83 @@
+#pragma once
+// Gauss-Newton steps on residual blocks given as Ceres cost functions and losses, without a
+// ceres::Problem. Why: the refinement takes one Gauss-Newton step per iteration (paper §4.3,
+// the authors' code), and Ceres pays its per-solve set-up for each one: the program and its
+// Jacobian's block structure, J^T J's sparsity and its ordering, all rebuilt for a single
+// step. Measured at 900 frames with the structural model (31,000 residual blocks), Ceres'
+// solve took 0.34 s per iteration, most of it in that set-up (BENCHMARKS.md, seventeenth
+// stop). Here the normal equations J^T J d = -J^T r are assembled block by block, straight
+// into the compressed columns CHOLMOD factors, and solved by CHOLMOD's supernodal Cholesky.
+//
+// The step is the one Ceres' Levenberg-Marquardt takes from an infinite trust region:
+// parameter blocks on their manifolds (the Jacobian taken through each manifold's
+// PlusJacobian, the step applied by its Plus), residuals under a loss corrected as Ceres does
+// (Triggs et al.: the residual and Jacobian scaled by sqrt(rho'), with the curvature term
+// where rho'' > 0), and the step kept only if the cost falls by at least
+// `min_relative_decrease` of what the linear model predicts; otherwise the variables stay as
+// they were. The blocks are evaluated in parallel, each into its own slot, and summed in
+// their order, so the result does not depend on the number of threads.
+
+#include <ceres/cost_function.h>
+#include <ceres/loss_function.h>
+#include <ceres/manifold.h>
+
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace f2c {
+
+struct GaussNewtonResidual {
+  const ceres::CostFunction* cost = nullptr;
+  const ceres::LossFunction* loss = nullptr;  // null: least squares
+  std::vector<double*> blocks;
+};
+
+struct GaussNewtonOptions {
+  int max_iterations = 1;
+  // Stop once a step changes the cost by less than this fraction of it (Ceres' meaning).
+  double function_tolerance = 1e-6;
+  // A step is kept if (cost - new cost) / (the model's predicted decrease) exceeds this
+  // (Ceres' default).
+  double min_relative_decrease = 1e-3;
+  // CHOLMOD's fill-reducing ordering. Measured at 900 frames (BENCHMARKS.md, seventeenth
+  // stop): nested dissection (METIS) leaves a quarter fewer flops than AMD in the poses'
+  // system, whose loops tie distant frames together, for twice AMD's analysis time; AMD
+  // is the better choice for the planes-only presolve, whose system is nearly block-diagonal.
+  enum class Ordering { kAmd, kNestedDissection };
+  Ordering ordering = Ordering::kNestedDissection;
+};
+
+struct GaussNewtonSummary {
+  double initial_cost = 0;  // 1/2 sum of robustified squares, as Ceres counts it
+  double final_cost = 0;
+  int iterations = 0;  // steps tried
+  int accepted = 0;    // steps kept
+  // False where the normal equations were not positive definite (a direction nothing
+  // constrains): nothing moved, and the caller may solve another way.
+  bool factorized = true;
+  std::string termination;
+};
+
+class GaussNewtonProblem {
+ public:
+  // A parameter block of `size` doubles at `x`; `manifold` null: Euclidean. Constant blocks
+  // enter the residuals but do not move.
+  void AddVariable(double* x, int size, const ceres::Manifold* manifold, bool constant);
+  bool HasVariable(const double* x) const { return index_.count(x) > 0; }
+
+  // Up to options.max_iterations steps over `residuals`, whose blocks must all be variables.
+  GaussNewtonSummary Solve(const std::vector<GaussNewtonResidual>& residuals, const GaussNewtonOptions& options) const;
+
+ private:
+  struct Variable {
+    double* x;
+    int size;
+    const ceres::Manifold* manifold;
+    bool constant;
+  };
+  std::vector<Variable> variables_;
+  std::unordered_map<const double*, int> index_;
+};
+
+}  // namespace f2c
