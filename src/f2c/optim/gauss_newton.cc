@@ -128,9 +128,9 @@ class Pattern {
 
   // A fill-reducing ordering of the scalar columns, found on the blocks' graph (a ninth of
   // the scalar one's entries, so the ordering costs a fraction of what it does on the
-  // scalars) by CHOLMOD's nested dissection, each block's columns kept together. Empty if
-  // CHOLMOD fails.
-  std::vector<int> NestedDissection(cholmod_common* common) const {
+  // scalars) by CHOLMOD's AMD or nested dissection, each block's columns kept together.
+  // Empty if CHOLMOD fails.
+  std::vector<int> BlockOrdering(GaussNewtonOptions::Ordering ordering, cholmod_common* common) const {
     std::vector<int> node_of(start_.size(), -1), variable_of;
     for (size_t v = 0; v < start_.size(); ++v) {
       if (start_[v] < 0) continue;
@@ -155,7 +155,11 @@ class Pattern {
     graph.sorted = 1;
     graph.packed = 1;
     std::vector<int> perm(n), parent(n), member(n);
-    if (cholmod_nested_dissection(&graph, nullptr, 0, perm.data(), parent.data(), member.data(), common) < 0) return {};
+    if (ordering == GaussNewtonOptions::Ordering::kAmd) {
+      if (!cholmod_amd(&graph, nullptr, 0, perm.data(), common)) return {};
+    } else if (cholmod_nested_dissection(&graph, nullptr, 0, perm.data(), parent.data(), member.data(), common) < 0) {
+      return {};
+    }
     std::vector<int> scalar;
     for (int node : perm) {
       const int v = variable_of[node];
@@ -210,14 +214,14 @@ class Cholesky {
     a.dtype = CHOLMOD_DOUBLE;
     a.sorted = 1;
     a.packed = 1;
-    if (factor_ == nullptr && ordering_ == GaussNewtonOptions::Ordering::kNestedDissection) {
-      std::vector<int> perm = h->NestedDissection(&common_);
+    if (factor_ == nullptr) {
+      std::vector<int> perm = h->BlockOrdering(ordering_, &common_);
       if (static_cast<int>(perm.size()) == n) {
         common_.method[0].ordering = CHOLMOD_GIVEN;
         factor_ = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &common_);
       }
     }
-    if (factor_ == nullptr) {
+    if (factor_ == nullptr) {  // CHOLMOD's own AMD on the scalars
       common_.method[0].ordering = CHOLMOD_AMD;
       factor_ = cholmod_analyze(&a, &common_);
     }

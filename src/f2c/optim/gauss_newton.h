@@ -3,10 +3,11 @@
 // ceres::Problem. Why: the refinement takes one Gauss-Newton step per iteration (paper §4.3,
 // the authors' code), and Ceres pays its per-solve set-up for each one: the program and its
 // Jacobian's block structure, J^T J's sparsity and its ordering, all rebuilt for a single
-// step. Measured at 900 frames with the structural model (31,000 residual blocks), Ceres'
-// solve took 0.34 s per iteration, most of it in that set-up (BENCHMARKS.md, seventeenth
-// stop). Here the normal equations J^T J d = -J^T r are assembled block by block, straight
+// step. Here the normal equations J^T J d = -J^T r are assembled block by block, straight
 // into the compressed columns CHOLMOD factors, and solved by CHOLMOD's supernodal Cholesky.
+// Measured at 900 frames (31,000 residual blocks with the structural model), the refinement
+// takes about a fifth less time, with and without the structure (BENCHMARKS.md,
+// seventeenth stop); what remains is mostly CHOLMOD's factorization.
 //
 // The step is the one Ceres' Levenberg-Marquardt takes from an infinite trust region:
 // parameter blocks on their manifolds (the Jacobian taken through each manifold's
@@ -40,10 +41,11 @@ struct GaussNewtonOptions {
   // A step is kept if (cost - new cost) / (the model's predicted decrease) exceeds this
   // (Ceres' default).
   double min_relative_decrease = 1e-3;
-  // CHOLMOD's fill-reducing ordering. Measured at 900 frames (BENCHMARKS.md, seventeenth
-  // stop): nested dissection (METIS) leaves a quarter fewer flops than AMD in the poses'
-  // system, whose loops tie distant frames together, for twice AMD's analysis time; AMD
-  // is the better choice for the planes-only presolve, whose system is nearly block-diagonal.
+  // CHOLMOD's fill-reducing ordering: AMD, or CHOLMOD's nested dissection (METIS) on the
+  // graph of the blocks, each block's columns kept together. Measured (BENCHMARKS.md,
+  // seventeenth stop), analysis and factorization together: the same at 900 frames, and
+  // nested dissection 2% ahead at 2,001 (less fill from the loops for a longer analysis);
+  // for the planes-only presolve, whose system is nearly block-diagonal, AMD.
   enum class Ordering { kAmd, kNestedDissection };
   Ordering ordering = Ordering::kNestedDissection;
 };

@@ -70,8 +70,13 @@ class PoseProblem {
   void Add(const std::string& term, ceres::CostFunction* cost, ceres::LossFunction* loss,
            std::vector<double*> blocks, bool structure = false) {
     costs_.emplace_back(cost);
-    residuals_.push_back({cost, loss, blocks, structure});
-    terms_[term].push_back({cost, loss, std::move(blocks)});
+    terms_[term].push_back(residuals_.size());
+    Residual r;
+    r.cost = cost;
+    r.loss = loss;
+    r.blocks = std::move(blocks);
+    r.structure = structure;
+    residuals_.push_back(std::move(r));
   }
   // A term of the structural model: also in the plane problem, where the poses are constant.
   void AddStructure(const std::string& term, ceres::CostFunction* cost, ceres::LossFunction* loss,
@@ -107,11 +112,11 @@ class PoseProblem {
   std::map<std::string, double> TermCosts() const {
     std::map<std::string, double> costs;
     for (const auto& entry : terms_) {
-      const std::vector<ResidualTerm>& list = entry.second;  // not a structured binding: the lambda captures it
+      const std::vector<size_t>& list = entry.second;  // not a structured binding: the lambda captures it
       std::vector<double> block_cost(list.size(), 0.0);
       const bool batched = pair_blocks_.count(entry.first) > 0;  // its term's cost is its robust cost
       tbb::parallel_for(size_t{0}, list.size(), [&](size_t i) {
-        const ResidualTerm& b = list[i];
+        const Residual& b = residuals_[list[i]];
         if (batched) {
           block_cost[i] = static_cast<const PairCost*>(b.cost)->RobustCost(b.blocks.data());
           return;
@@ -149,7 +154,7 @@ class PoseProblem {
         const Variable& v = variables_[index_.at(b)];
         problem.AddVariable(b, v.size, v.manifold, v.constant || (planes_only && !v.plane));
       }
-      residuals.push_back({r.cost, r.loss, r.blocks});
+      residuals.push_back(r);
     }
     return problem.Solve(residuals, options);
   }
@@ -193,16 +198,8 @@ class PoseProblem {
     index_[x] = static_cast<int>(variables_.size());
     variables_.push_back({x, size, manifold, plane});
   }
-  struct Residual {
-    const ceres::CostFunction* cost;
-    const ceres::LossFunction* loss;
-    std::vector<double*> blocks;
-    bool structure;  // of the structural model: in the plane problem
-  };
-  struct ResidualTerm {
-    const ceres::CostFunction* cost;
-    const ceres::LossFunction* loss;
-    std::vector<double*> blocks;
+  struct Residual : GaussNewtonResidual {
+    bool structure = false;  // of the structural model: in the plane problem
   };
   ceres::EigenQuaternionManifold quaternion_;
   PlaneManifold plane_manifold_;
@@ -211,7 +208,7 @@ class PoseProblem {
   std::map<std::pair<std::string, double>, std::unique_ptr<ceres::LossFunction>> losses_;
   std::vector<std::unique_ptr<ceres::CostFunction>> costs_;
   std::vector<Residual> residuals_;  // in the order they were added
-  std::map<std::string, std::vector<ResidualTerm>> terms_;
+  std::map<std::string, std::vector<size_t>> terms_;  // each term's residuals_
   std::set<std::string> pair_blocks_;  // terms of batched pair blocks
 };
 
@@ -484,7 +481,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
 
 nlohmann::json ToJson(const SolveSummary& s) {
   return {{"cost_before", s.cost_before}, {"cost_after", s.cost_after}, {"residual_blocks", s.residual_blocks},
-          {"ceres_iterations", s.iterations}, {"linear_iterations", s.linear_iterations},
+          {"iterations", s.iterations}, {"linear_iterations", s.linear_iterations},
           {"plane_presolve_iterations", s.plane_presolve_iterations},
           {"termination", s.termination}, {"usable", s.usable},
           {"seconds", s.seconds}};

@@ -158,8 +158,8 @@ struct SolveSummary {
   // Weighted cost of each term (Ceres' 1/2 sum of robustified squares), before and after.
   std::map<std::string, double> cost_before, cost_after;
   std::map<std::string, int> residual_blocks;
-  int iterations = 0;          // Ceres iterations
-  std::string termination;     // Ceres' termination type
+  int iterations = 0;          // steps tried (ours), or Ceres iterations
+  std::string termination;     // ours ("iteration limit", "step rejected", ...) or Ceres' termination type
   bool usable = false;
   int linear_iterations = 0;  // conjugate-gradient iterations, summed (iterative solver)
   int plane_presolve_iterations = 0;
