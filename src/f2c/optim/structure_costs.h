@@ -7,9 +7,9 @@
 // coordinates, so d = n . x_0 + e in the usual form n . x = d. Measured from the origin
 // instead, a small turn of the normal swings the plane by its distance from the origin times
 // the angle, and one Gauss-Newton step overshoots (Ceres rejects it); about the plane's
-// centre the problem is near-linear. One block rather than two (normal, offset), so that a
-// child plane, which only its frame's E_P and its parent's E_H touch, can be eliminated by
-// the Schur complement before the poses are solved (optim/problem.h). Poses are as in
+// centre the problem is near-linear. One block rather than two (normal, offset): half the
+// plane variables, each one node of the graph the normal equations are ordered on
+// (optim/gauss_newton.h). Poses are as in
 // optim/cost_functions.h (x_world = R(q) x_camera + t). Residuals are unweighted: metres, or
 // unit-vector differences; optim/problem.cc applies each term's weight.
 
