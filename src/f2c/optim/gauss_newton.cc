@@ -63,6 +63,24 @@ Corrector Correct(const ceres::LossFunction* loss, double sq_norm) {
   return c;
 }
 
+// A CHOLMOD view of a symmetric matrix's upper triangle in compressed columns (int indices;
+// values null for a pattern), over arrays the caller keeps.
+cholmod_sparse UpperView(int n, std::vector<int>* p, std::vector<int>* i, std::vector<double>* x) {
+  cholmod_sparse a{};
+  a.nrow = a.ncol = n;
+  a.nzmax = i->size();
+  a.p = p->data();
+  a.i = i->data();
+  a.x = x != nullptr ? x->data() : nullptr;
+  a.stype = 1;
+  a.itype = CHOLMOD_INT;
+  a.xtype = x != nullptr ? CHOLMOD_REAL : CHOLMOD_PATTERN;
+  a.dtype = CHOLMOD_DOUBLE;
+  a.sorted = 1;
+  a.packed = 1;
+  return a;
+}
+
 // The normal equations' pattern: the upper triangle of the variables' blocks (diagonal blocks
 // stored whole; CHOLMOD reads only their upper part), as compressed columns.
 class Pattern {
@@ -143,17 +161,7 @@ class Pattern {
       p.push_back(static_cast<int>(i.size()));
     }
     const int n = static_cast<int>(variable_of.size());
-    cholmod_sparse graph{};
-    graph.nrow = graph.ncol = n;
-    graph.nzmax = i.size();
-    graph.p = p.data();
-    graph.i = i.data();
-    graph.stype = 1;
-    graph.itype = CHOLMOD_INT;
-    graph.xtype = CHOLMOD_PATTERN;
-    graph.dtype = CHOLMOD_DOUBLE;
-    graph.sorted = 1;
-    graph.packed = 1;
+    cholmod_sparse graph = UpperView(n, &p, &i, nullptr);
     std::vector<int> perm(n), parent(n), member(n);
     if (ordering == GaussNewtonOptions::Ordering::kAmd) {
       if (!cholmod_amd(&graph, nullptr, 0, perm.data(), common)) return {};
@@ -202,18 +210,7 @@ class Cholesky {
   // False if H is not positive definite (or CHOLMOD fails otherwise).
   bool Solve(Pattern* h, const Eigen::VectorXd& b, Eigen::VectorXd* x) {
     const int n = static_cast<int>(b.size());
-    cholmod_sparse a{};
-    a.nrow = a.ncol = n;
-    a.nzmax = h->values().size();
-    a.p = h->column_pointers().data();
-    a.i = h->row_indices().data();
-    a.x = h->values().data();
-    a.stype = 1;
-    a.itype = CHOLMOD_INT;
-    a.xtype = CHOLMOD_REAL;
-    a.dtype = CHOLMOD_DOUBLE;
-    a.sorted = 1;
-    a.packed = 1;
+    cholmod_sparse a = UpperView(n, &h->column_pointers(), &h->row_indices(), &h->values());
     if (factor_ == nullptr) {
       std::vector<int> perm = h->BlockOrdering(ordering_, &common_);
       if (static_cast<int>(perm.size()) == n) {
