@@ -7,8 +7,6 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <memory>
 
 #include "f2c/util/error.h"
 
@@ -25,15 +23,13 @@ namespace {
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-// One residual block at the current variables: its cost and, linearised, its share of the
-// normal equations: per free block i its gradient J_i^T r, and per pair i <= j of free blocks
-// J_i^T J_j (transposed where the variables' order is the other way round).
-// Stored flat, in one buffer: the gradients in the blocks' order, then the products (i, j),
-// i <= j, in row order (0,0), (0,1), ..., (1,1), ..., each column-major.
+// One residual block linearised at the current variables: its share of the normal
+// equations, per free block i its gradient J_i^T r and per pair i <= j of free blocks
+// J_i^T J_j (transposed where the variables' order is the other way round). Stored flat, in
+// one buffer: the gradients in the blocks' order, then the products (i, j), i <= j, in row
+// order (0,0), (0,1), ..., (1,1), ..., each column-major.
 struct Linearised {
   bool ok = true;
-  double cost = 0;
-  std::vector<int> vars;  // the free blocks' variables
   std::vector<double> values;
 };
 
@@ -85,14 +81,15 @@ cholmod_sparse UpperView(int n, std::vector<int>* p, std::vector<int>* i, std::v
 // stored whole; CHOLMOD reads only their upper part), as compressed columns.
 class Pattern {
  public:
-  Pattern(const std::vector<Linearised>& blocks, const std::vector<int>& start, const std::vector<int>& tangent)
+  // `free_vars`: each residual block's free variables.
+  Pattern(const std::vector<std::vector<int>>& free_vars, const std::vector<int>& start, const std::vector<int>& tangent)
       : start_(start), tangent_(tangent) {
     const int nv = static_cast<int>(start.size());
     rows_.resize(nv);
-    for (const Linearised& l : blocks) {
-      for (size_t i = 0; i < l.vars.size(); ++i) {
-        for (size_t j = i; j < l.vars.size(); ++j) {
-          const int a = std::min(l.vars[i], l.vars[j]), b = std::max(l.vars[i], l.vars[j]);
+    for (const std::vector<int>& vars : free_vars) {
+      for (size_t i = 0; i < vars.size(); ++i) {
+        for (size_t j = i; j < vars.size(); ++j) {
+          const int a = std::min(vars[i], vars[j]), b = std::max(vars[i], vars[j]);
           rows_[b].push_back(a);
         }
       }
@@ -118,6 +115,8 @@ class Pattern {
     }
     values_.assign(row_indices_.size(), 0.0);
   }
+
+  void Clear() { std::fill(values_.begin(), values_.end(), 0.0); }
 
   // Adds `block` (tangent[a] x tangent[b], column-major) at variables (a, b), a <= b.
   void Add(int a, int b, const double* block) {
@@ -191,7 +190,7 @@ class Pattern {
 
 // H x = b by CHOLMOD's Cholesky (H from its upper triangle). The symbolic analysis (the fill-
 // reducing ordering and the factor's structure) is done once, at the first solve: the steps
-// of one Solve share their pattern.
+// of one Solve share their Pattern.
 class Cholesky {
  public:
   explicit Cholesky(GaussNewtonOptions::Ordering ordering) : ordering_(ordering) {
@@ -244,15 +243,92 @@ class Cholesky {
   cholmod_factor* factor_ = nullptr;
 };
 
+// Per-thread scratch space for Linearise.
+struct Scratch {
+  std::vector<double> r, ambient, tangents;
+};
+
+// Residual block `res` linearised: `vars` its blocks' variables, `free_vars` those that move
+// (start >= 0), `size` and `tangent` each variable's ambient and tangent sizes, and
+// `plus_jacobians` each free variable's manifold Jacobian (empty: Euclidean).
+Linearised Linearise(const GaussNewtonResidual& res, const std::vector<int>& vars, const std::vector<int>& free_vars,
+                     const std::vector<int>& start, const std::vector<int>& size, const std::vector<int>& tangent,
+                     const std::vector<RowMatrix>& plus_jacobians, Scratch* scratch) {
+  Linearised l;
+  const int m = res.cost->num_residuals();
+  const int nb = static_cast<int>(res.blocks.size());
+  F2C_CHECK(nb <= 16, "at most 16 parameter blocks per residual block");
+  // The ambient Jacobians side by side (each m x size, row-major), then the tangent ones.
+  int ambient_size = 0, tangent_size = 0;
+  for (int v : free_vars) {
+    ambient_size += size[v];
+    tangent_size += tangent[v];
+  }
+  scratch->r.resize(m);
+  scratch->ambient.resize(static_cast<size_t>(m) * ambient_size);
+  scratch->tangents.resize(static_cast<size_t>(m) * tangent_size);
+  double* jacobians[16] = {};
+  for (int b = 0, offset = 0; b < nb; ++b) {
+    if (start[vars[b]] < 0) continue;
+    jacobians[b] = scratch->ambient.data() + static_cast<size_t>(m) * offset;
+    offset += size[vars[b]];
+  }
+  const Eigen::Map<Eigen::VectorXd> residual(scratch->r.data(), m);
+  if (!res.cost->Evaluate(res.blocks.data(), scratch->r.data(), jacobians) || !residual.allFinite()) {
+    l.ok = false;
+    return l;
+  }
+  const Corrector c = Correct(res.loss, residual.squaredNorm());
+  std::vector<Eigen::Map<RowMatrix>> j;
+  for (size_t k = 0, a_off = 0, t_off = 0; k < free_vars.size(); ++k) {
+    const int v = free_vars[k];
+    Eigen::Map<const RowMatrix> jac_ambient(scratch->ambient.data() + m * a_off, m, size[v]);
+    j.emplace_back(scratch->tangents.data() + m * t_off, m, tangent[v]);
+    if (plus_jacobians[v].size() > 0) {
+      j.back().noalias() = jac_ambient * plus_jacobians[v];
+    } else {
+      j.back() = jac_ambient;
+    }
+    if (c.alpha_sq_norm != 0) j.back() -= c.alpha_sq_norm * residual * (residual.transpose() * j.back());
+    j.back() *= c.jacobian_scale;
+    a_off += size[v];
+    t_off += tangent[v];
+  }
+  size_t total = 0;
+  for (size_t a = 0; a < free_vars.size(); ++a) {
+    total += tangent[free_vars[a]];
+    for (size_t b = a; b < free_vars.size(); ++b) total += tangent[free_vars[a]] * tangent[free_vars[b]];
+  }
+  l.values.resize(total);
+  double* out = l.values.data();
+  for (size_t a = 0; a < free_vars.size(); ++a) {
+    Eigen::Map<Eigen::VectorXd> g(out, tangent[free_vars[a]]);
+    g.noalias() = c.residual_scale * (j[a].transpose() * residual);
+    out += g.size();
+  }
+  for (size_t a = 0; a < free_vars.size(); ++a) {
+    for (size_t b = a; b < free_vars.size(); ++b) {
+      // Stored as (lower-numbered variable, higher): transposed where the order is reversed.
+      const bool ordered = free_vars[a] <= free_vars[b];
+      const size_t lo = ordered ? a : b, hi = ordered ? b : a;
+      Eigen::Map<Eigen::MatrixXd> p(out, tangent[free_vars[lo]], tangent[free_vars[hi]]);
+      p.noalias() = j[lo].transpose() * j[hi];
+      out += p.size();
+    }
+  }
+  return l;
+}
+
 }  // namespace
 
 GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidual>& residuals,
                                             const GaussNewtonOptions& options) const {
   const int nv = static_cast<int>(variables_.size());
-  std::vector<int> start(nv, -1), tangent(nv, 0);
+  std::vector<int> start(nv, -1), size(nv), tangent(nv, 0);
   int columns = 0;
   for (int v = 0; v < nv; ++v) {
     const Variable& var = variables_[v];
+    size[v] = var.size;
     tangent[v] = var.manifold != nullptr ? var.manifold->TangentSize() : var.size;
     if (var.constant) continue;
     start[v] = columns;
@@ -299,6 +375,13 @@ GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidu
     summary.termination = "nothing to solve";
     return summary;
   }
+  std::vector<std::vector<int>> free_vars(residuals.size());
+  for (size_t i = 0; i < residuals.size(); ++i) {
+    for (int v : block_vars[i]) {
+      if (!variables_[v].constant) free_vars[i].push_back(v);
+    }
+  }
+  Pattern h(free_vars, start, tangent);  // the same for every step
   std::vector<RowMatrix> plus_jacobians(nv);
   Cholesky cholesky(options.ordering);
   for (int it = 0; it < options.max_iterations; ++it) {
@@ -308,81 +391,11 @@ GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidu
       plus_jacobians[v].resize(var.size, tangent[v]);
       var.manifold->PlusJacobian(var.x, plus_jacobians[v].data());
     }
-    // Each block linearised in parallel into its own slot; scratch space per chunk of blocks.
     std::vector<Linearised> linear(residuals.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, residuals.size()), [&](const tbb::blocked_range<size_t>& range) {
-      std::vector<double> r, ambient, tangents;
+      Scratch scratch;
       for (size_t i = range.begin(); i != range.end(); ++i) {
-        const GaussNewtonResidual& res = residuals[i];
-        Linearised& l = linear[i];
-        const int m = res.cost->num_residuals();
-        const int nb = static_cast<int>(res.blocks.size());
-        // The ambient Jacobians side by side (each m x size, row-major), then the tangent ones.
-        int ambient_size = 0, tangent_size = 0;
-        for (int b = 0; b < nb; ++b) {
-          const int v = block_vars[i][b];
-          if (variables_[v].constant) continue;
-          ambient_size += variables_[v].size;
-          tangent_size += tangent[v];
-          l.vars.push_back(v);
-        }
-        r.resize(m);
-        ambient.resize(static_cast<size_t>(m) * ambient_size);
-        tangents.resize(static_cast<size_t>(m) * tangent_size);
-        double* jacobians[16] = {};
-        F2C_CHECK(nb <= 16, "at most 16 parameter blocks per residual block");
-        for (int b = 0, offset = 0; b < nb; ++b) {
-          const Variable& var = variables_[block_vars[i][b]];
-          if (var.constant) continue;
-          jacobians[b] = ambient.data() + static_cast<size_t>(m) * offset;
-          offset += var.size;
-        }
-        if (!res.cost->Evaluate(res.blocks.data(), r.data(), jacobians) ||
-            !Eigen::Map<const Eigen::VectorXd>(r.data(), m).allFinite()) {
-          l.ok = false;
-          continue;
-        }
-        const Eigen::Map<Eigen::VectorXd> residual(r.data(), m);
-        const Corrector c = Correct(res.loss, residual.squaredNorm());
-        l.cost = c.cost;
-        std::vector<Eigen::Map<RowMatrix>> j;
-        for (size_t k = 0, a_off = 0, t_off = 0; k < l.vars.size(); ++k) {
-          const int v = l.vars[k];
-          const Variable& var = variables_[v];
-          Eigen::Map<const RowMatrix> jac_ambient(ambient.data() + m * a_off, m, var.size);
-          j.emplace_back(tangents.data() + m * t_off, m, tangent[v]);
-          if (var.manifold != nullptr) {
-            j.back().noalias() = jac_ambient * plus_jacobians[v];
-          } else {
-            j.back() = jac_ambient;
-          }
-          if (c.alpha_sq_norm != 0) j.back() -= c.alpha_sq_norm * residual * (residual.transpose() * j.back());
-          j.back() *= c.jacobian_scale;
-          a_off += var.size;
-          t_off += tangent[v];
-        }
-        size_t total = 0;
-        for (size_t a = 0; a < l.vars.size(); ++a) {
-          total += tangent[l.vars[a]];
-          for (size_t b = a; b < l.vars.size(); ++b) total += tangent[l.vars[a]] * tangent[l.vars[b]];
-        }
-        l.values.resize(total);
-        double* out = l.values.data();
-        for (size_t a = 0; a < l.vars.size(); ++a) {
-          Eigen::Map<Eigen::VectorXd> g(out, tangent[l.vars[a]]);
-          g.noalias() = c.residual_scale * (j[a].transpose() * residual);
-          out += g.size();
-        }
-        for (size_t a = 0; a < l.vars.size(); ++a) {
-          for (size_t b = a; b < l.vars.size(); ++b) {
-            // Stored as (lower-numbered variable, higher): transposed where the order is reversed.
-            const bool ordered = l.vars[a] <= l.vars[b];
-            const size_t lo = ordered ? a : b, hi = ordered ? b : a;
-            Eigen::Map<Eigen::MatrixXd> p(out, tangent[l.vars[lo]], tangent[l.vars[hi]]);
-            p.noalias() = j[lo].transpose() * j[hi];
-            out += p.size();
-          }
-        }
+        linear[i] = Linearise(residuals[i], block_vars[i], free_vars[i], start, size, tangent, plus_jacobians, &scratch);
       }
     });
     for (const Linearised& l : linear) {
@@ -392,17 +405,18 @@ GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidu
       }
     }
     // Summed in the blocks' order.
-    Pattern h(linear, start, tangent);
+    h.Clear();
     Eigen::VectorXd g = Eigen::VectorXd::Zero(columns);
-    for (const Linearised& l : linear) {
-      const double* in = l.values.data();
-      for (int v : l.vars) {
+    for (size_t i = 0; i < linear.size(); ++i) {
+      const std::vector<int>& vars = free_vars[i];
+      const double* in = linear[i].values.data();
+      for (int v : vars) {
         g.segment(start[v], tangent[v]) += Eigen::Map<const Eigen::VectorXd>(in, tangent[v]);
         in += tangent[v];
       }
-      for (size_t a = 0; a < l.vars.size(); ++a) {
-        for (size_t b = a; b < l.vars.size(); ++b) {
-          const int lo = std::min(l.vars[a], l.vars[b]), hi = std::max(l.vars[a], l.vars[b]);
+      for (size_t a = 0; a < vars.size(); ++a) {
+        for (size_t b = a; b < vars.size(); ++b) {
+          const int lo = std::min(vars[a], vars[b]), hi = std::max(vars[a], vars[b]);
           h.Add(lo, hi, in);
           in += tangent[lo] * tangent[hi];
         }
