@@ -415,8 +415,9 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   // drop out, and need not be evaluated), and the joint step starts from planes in balance
   // with the current poses.
   // Our Gauss-Newton step where it is the step asked for (optim/gauss_newton.h); Ceres where
-  // the options ask for it, to convergence, or where the normal equations are singular
-  // (Levenberg-Marquardt's damping then holds the free directions).
+  // the options ask for it, to convergence, or where the normal equations are not positive
+  // definite (as before our solver; from the one step's huge trust region Ceres' damping is
+  // negligible too, and such a step is usually not taken).
   const bool own = options.linear_solver == LinearSolver::kDirect && options.solve == SolveMode::kOneStep;
   if (use_structure && options.solve == SolveMode::kOneStep && options.plane_presolve_iterations > 0) {
     bool done = false;

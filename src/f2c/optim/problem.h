@@ -97,7 +97,7 @@ struct SolverOptions {
   // Ceres' at an infinite trust region, without Ceres' per-solve set-up (measured: the
   // refinement about a fifth faster at 900 frames, a quarter at 2,001 and 5,000,
   // BENCHMARKS.md, seventeenth stop); converge mode, or normal equations that are not
-  // positive definite, fall back to kSparse. kSparse: Ceres with sparse Cholesky
+  // positive definite, fall back to kSparse (as before this solver). kSparse: Ceres with sparse Cholesky
   // (SuiteSparse). kCgnr: Ceres with conjugate gradients on the normal equations and a
   // block-Jacobi preconditioner, whose memory grows with the constraints only (a Cholesky
   // factor fills in as loops tie distant frames together).
