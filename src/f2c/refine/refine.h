@@ -90,10 +90,10 @@ struct RefineOptions {
   // apart (a wall and the next one behind it); under least squares such a child turns its
   // frame by part of its tilt (1.4-1.7 deg on the simulator). Through the loss it lets go,
   // while children that agree with their parent pull as before. Off by default: measured
-  // (BENCHMARKS.md, eleventh stop), 5 mm lowers the 900-frame walks' worst drift and helps
-  // both real sequences, but leaves a 5,000-frame walk's correspondence error at 0.018 m
-  // against least squares' 0.011 (through the loss in every iteration, 0.059: the loop
-  // stays open), and changes little on walks that chose nothing.
+  // (BENCHMARKS.md, eighteenth stop), 5 mm lowers the apartment walks' worst drift (0.87 ->
+  // 0.66 deg) and redkitchen's ATE, but raises a 5,000-frame walk's correspondence error
+  // (0.0074 -> 0.0085 m) and fr1/xyz's (0.0108 -> 0.0109 m), and changes little on walks
+  // that chose nothing.
   double polish_coplanarity_loss_scale = 0;
 
   template <class V>
