@@ -280,6 +280,7 @@ Linearised Linearise(const GaussNewtonResidual& res, const std::vector<int>& var
   }
   const Corrector c = Correct(res.loss, residual.squaredNorm());
   std::vector<Eigen::Map<RowMatrix>> j;
+  j.reserve(free_vars.size());
   for (size_t k = 0, a_off = 0, t_off = 0; k < free_vars.size(); ++k) {
     const int v = free_vars[k];
     Eigen::Map<const RowMatrix> jac_ambient(scratch->ambient.data() + m * a_off, m, size[v]);

@@ -88,7 +88,8 @@ struct RefineOptions {
   // (metres; 0: as in the schedule's iterations, --coplanarity-loss-scale; the tighter of the
   // two holds). An image can fit one proxy across two parallel surfaces a few centimetres
   // apart (a wall and the next one behind it); under least squares such a child turns its
-  // frame by part of its tilt (1.4-1.7 deg on the simulator). Through the loss it lets go,
+  // frame through its tilt (1.4-1.7 deg on the simulator) and, more, its centimetres of
+  // offset from its parent (BENCHMARKS.md, eighteenth stop). Through the loss it lets go,
   // while children that agree with their parent pull as before. Off by default: measured
   // (BENCHMARKS.md, eighteenth stop), 5 mm lowers the apartment walks' worst drift (0.87 ->
   // 0.66 deg) and redkitchen's ATE, but raises a 5,000-frame walk's correspondence error
