@@ -81,6 +81,9 @@ struct CoplanarLink {
   int32_t parent = 0;
   Eigen::Vector3d anchor = Eigen::Vector3d::Zero();  // the child's centroid, world, when clustered
   float weight = 1;                                  // relative weight within E_H
+  // How well the child agrees with its parent's other children, in (0, 1]: multiplies the
+  // link's weight without entering E_H's normalising sum (refine/hierarchy.h).
+  float agreement = 1;
 };
 
 enum class RelationType : uint8_t { kParallel = 0, kAntiparallel, kOrthogonal };

@@ -354,7 +354,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       parents[i].Set(normal, structure.parents[i].offset - normal.dot(parents[i].reference));
       pp.AddPlane(&parents[i]);
     }
-    // E_H: w_H v / sum(v) per link.
+    // E_H: w_H a v / sum(v) per link (a: the link's agreement with its siblings).
     double sum_h = 0;
     for (const CoplanarLink& l : structure.links) sum_h += l.weight;
     for (const CoplanarLink& l : structure.links) {
@@ -365,7 +365,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       PlaneVariable& c = children[l.child];
       PlaneVariable& p = parents[l.parent];
       const auto [s, loss] =
-          pp.Weigh(options.weight_coplanarity * l.weight / sum_h, options.coplanarity_loss_scale, kTermH);
+          pp.Weigh(options.weight_coplanarity * l.weight * l.agreement / sum_h, options.coplanarity_loss_scale, kTermH);
       pp.AddStructure(kTermH, CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, s, c.reference, p.reference),
                       loss, {c.data(), p.data()});
     }

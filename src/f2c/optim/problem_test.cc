@@ -490,6 +490,18 @@ TEST(SolvePoses, RobustCoplanarityLetsAMisfittedChildGo) {
   EXPECT_GT(error_deg(ls), 0.5);
   EXPECT_LT(error_deg(cauchy), 0.5 * error_deg(ls));
 
+  // The hierarchy's sibling agreement (refine/hierarchy.h) scales a link's weight, not E_H's
+  // normalising sum: at agreement 0.1 the misfit's E_H cost is a tenth, and its pull too.
+  Constraints discounted = misfit;
+  discounted.structure.links[2].agreement = 0.1f;
+  PoseVector agreed = truth, reference = truth;
+  const SolveSummary full = SolvePoses(misfit, least_squares, &reference);
+  const SolveSummary part = SolvePoses(discounted, least_squares, &agreed);
+  ASSERT_TRUE(part.usable);
+  EXPECT_GT(full.cost_before.at("E_H"), 0);
+  EXPECT_NEAR(part.cost_before.at("E_H"), 0.1 * full.cost_before.at("E_H"), 1e-6 * full.cost_before.at("E_H"));
+  EXPECT_LT(error_deg(agreed), 0.5 * error_deg(ls));
+
   const Constraints exact = make(0.0);
   PoseVector start = truth;
   start[2].rotation = Eigen::AngleAxisd(0.2 * M_PI / 180, Eigen::Vector3d::UnitZ()) * truth[2].rotation;

@@ -106,7 +106,45 @@ double MergeCost(const Cluster& a, const Cluster& b, const std::vector<ClusterIt
   return distance / max_distance + std::acos(std::min(1.0, cosine)) / max_angle;
 }
 
+// The value below which half the weight lies (values and weights paired; sorts them).
+double WeightedMedian(std::vector<std::pair<double, double>>* values) {
+  std::sort(values->begin(), values->end());
+  double total = 0;
+  for (const auto& [v, w] : *values) total += w;
+  double below = 0;
+  for (const auto& [v, w] : *values) {
+    below += w;
+    if (below >= 0.5 * total) return v;
+  }
+  return values->back().first;
+}
+
 }  // namespace
+
+std::vector<double> SiblingAgreement(const std::vector<ClusterItem>& items, const PlaneCluster& cluster,
+                                     const HierarchyOptions& options) {
+  std::vector<double> agreement(cluster.members.size(), 1.0);
+  if (options.agreement_scale <= 0 || static_cast<int>(cluster.members.size()) < options.agreement_min_children) {
+    return agreement;
+  }
+  std::vector<double> along(cluster.members.size());
+  std::vector<std::pair<double, double>> weighted;
+  weighted.reserve(along.size());
+  for (size_t i = 0; i < along.size(); ++i) {
+    const ClusterItem& item = items[cluster.members[i]];
+    along[i] = cluster.normal.dot(item.centroid);
+    weighted.emplace_back(along[i], item.weight);
+  }
+  const double median = WeightedMedian(&weighted);
+  for (size_t i = 0; i < along.size(); ++i) weighted[i] = {std::abs(along[i] - median), items[cluster.members[i]].weight};
+  const double spread = std::max(options.agreement_floor, 1.4826 * WeightedMedian(&weighted));
+  const double scale = options.agreement_scale * spread;
+  for (size_t i = 0; i < along.size(); ++i) {
+    const double t = (along[i] - median) / scale;
+    agreement[i] = 1 / (1 + t * t);
+  }
+  return agreement;
+}
 
 std::vector<PlaneCluster> ClusterCoplanar(const std::vector<ClusterItem>& items, const HierarchyOptions& options) {
   // First pass: largest first, each into the best agreeing cluster within the tighter
@@ -221,9 +259,11 @@ ProxyHierarchy BuildProxyHierarchy(const WindowSchedule& schedule, int iteration
       h.parent_window.push_back(static_cast<int>(w));
       h.window_parents[w].push_back(parent);
       std::set<int> frames;
-      for (int m : cluster.members) {
-        const int child = begin + m;
-        s.links.push_back({child, parent, world[child].centroid, static_cast<float>(world[child].weight)});
+      const std::vector<double> agreement = SiblingAgreement(items, cluster, options);
+      for (size_t i = 0; i < cluster.members.size(); ++i) {
+        const int child = begin + cluster.members[i];
+        s.links.push_back({child, parent, world[child].centroid, static_cast<float>(world[child].weight),
+                           static_cast<float>(agreement[i])});
         h.child_parents[child].push_back(parent);
         frames.insert(s.children[child].frame);
       }

@@ -44,6 +44,18 @@ struct HierarchyOptions {
   // Two children of one image further apart than this (metres) never share a parent (0: off).
   // A few sensor noise levels of a plane fitted to hundreds of points at 1-3 m.
   double in_image_distance = 0.015;
+  // Agreement with the siblings, beyond the paper: a child whose centroid lies t from its
+  // parent's robust plane (the weighted median of the children's offsets along the parent's
+  // normal) has its link weighted by 1 / (1 + (t / (k s))^2), a Cauchy weight, with
+  // s = max(agreement_floor, 1.4826 MAD) the children's robust spread about that plane and
+  // k = agreement_scale (0: off, every link weighs its inliers). A proxy fitted across a wall
+  // jog sits centimetres off a wall whose other views agree to millimetres, and under least
+  // squares its offset turns its frame (BENCHMARKS.md, eighteenth stop); where the parent's
+  // children all spread, as under drift still to be removed, s grows with them and every
+  // link keeps its pull.
+  double agreement_scale = 0;
+  double agreement_floor = 0.003;  // metres: the spread below which no child is singled out
+  int agreement_min_children = 5;  // parents with fewer children keep every link whole
 
   template <class V>
   void Fields(V& v) {
@@ -54,6 +66,11 @@ struct HierarchyOptions {
     F2C_FIELD(v, premerge_fraction, "", AboveUpTo(0, 1), "of both thresholds, for the first pass");
     F2C_FIELD(v, in_image_distance, "--coplanar-in-image-distance", AtLeast(0),
               "two children of one image further apart never share a parent (m; 0: off)");
+    F2C_FIELD(v, agreement_scale, "--coplanar-agreement-scale", AtLeast(0),
+              "E_H: a child t off its parent's robust plane weighs 1/(1+(t/(k s))^2), s its siblings' robust spread (k; 0: off)");
+    F2C_FIELD(v, agreement_floor, "--coplanar-agreement-floor", Positive(), "...s at least this (m)");
+    F2C_FIELD(v, agreement_min_children, "--coplanar-agreement-min-children", AtLeast(1),
+              "...in parents of at least this many children");
   }
   void Check() const;  // InputError naming the option when out of range
 };
@@ -76,6 +93,11 @@ struct PlaneCluster {
 // Coplanar clusters of the items, heaviest first (ties: lowest member first). Deterministic.
 // Per window: `options` as checked by the caller (BuildProxyHierarchy checks once).
 std::vector<PlaneCluster> ClusterCoplanar(const std::vector<ClusterItem>& items, const HierarchyOptions& options);
+
+// Each member's agreement with its siblings (HierarchyOptions::agreement_scale), in the
+// order of cluster.members: all 1 when off or when the cluster is small.
+std::vector<double> SiblingAgreement(const std::vector<ClusterItem>& items, const PlaneCluster& cluster,
+                                     const HierarchyOptions& options);
 
 struct HierarchyStats {
   int children = 0;

@@ -155,6 +155,61 @@ TEST(BuildProxyHierarchy, OneParentPerWindowAndALinkPerChildAndWindow) {
 // normal turned into the world by its frame's pose. Child 0 (frame 0, identity) is 1 deg off
 // the parent's z, child 1 (frame 1, turned 90 deg about z) 2 deg off, with 3 times the
 // weight: sqrt((1 + 3 * 4) / 4) deg.
+// A cluster of items on the plane z = 0 (normal +z) at the given heights, unit weights.
+std::pair<std::vector<ClusterItem>, PlaneCluster> Heights(const std::vector<double>& z) {
+  std::vector<ClusterItem> items;
+  PlaneCluster cluster;
+  for (size_t i = 0; i < z.size(); ++i) {
+    ClusterItem item;
+    item.centroid = {0.3 * i, 0.1 * i, z[i]};
+    items.push_back(item);
+    cluster.members.push_back(static_cast<int>(i));
+  }
+  cluster.weight = static_cast<double>(z.size());
+  return {items, cluster};
+}
+
+TEST(SiblingAgreement, CauchyWeightOfTheOffsetFromTheWeightedMedianInRobustSpreads) {
+  HierarchyOptions options;
+  options.agreement_scale = 2;
+  options.agreement_floor = 0.001;
+  // Heights (mm) 0, 1, 2, 3, 4, 40: median 2 (half the weight at or below), absolute
+  // deviations 2, 1, 0, 1, 2, 38: their median 1, so s = 1.4826 mm and k s = 2.9652 mm.
+  const auto [items, cluster] = Heights({0, 0.001, 0.002, 0.003, 0.004, 0.040});
+  const std::vector<double> a = SiblingAgreement(items, cluster, options);
+  ASSERT_EQ(a.size(), 6u);
+  const double ks = 2 * 1.4826e-3;
+  const double offsets[] = {-0.002, -0.001, 0, 0.001, 0.002, 0.038};
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(a[i], 1 / (1 + std::pow(offsets[i] / ks, 2)), 1e-9) << i;
+  EXPECT_LT(a[5], 0.01);  // the child across the jog lets go
+  EXPECT_DOUBLE_EQ(a[2], 1.0);
+
+  // The floor: with s at least 1 cm, the same child keeps more of its weight...
+  options.agreement_floor = 0.01;
+  EXPECT_NEAR(SiblingAgreement(items, cluster, options)[5], 1 / (1 + std::pow(0.038 / 0.02, 2)), 1e-9);
+  // ...and off, or in a small cluster, every link weighs 1.
+  options.agreement_scale = 0;
+  for (double v : SiblingAgreement(items, cluster, options)) EXPECT_EQ(v, 1.0);
+  options.agreement_scale = 2;
+  options.agreement_min_children = 7;
+  for (double v : SiblingAgreement(items, cluster, options)) EXPECT_EQ(v, 1.0);
+}
+
+TEST(SiblingAgreement, WhenAllChildrenSpreadNoneIsSingledOut) {
+  // Children spread evenly over +-3 cm (drift not yet removed): the spread grows with them,
+  // so the outermost keep most of their pull; a 3 cm child among millimetre siblings does not.
+  HierarchyOptions options;
+  options.agreement_scale = 3;
+  std::vector<double> spread, tight;
+  for (int i = 0; i <= 12; ++i) spread.push_back(-0.03 + 0.005 * i);
+  for (int i = 0; i < 12; ++i) tight.push_back(0.0005 * (i % 3));
+  tight.push_back(0.03);
+  const auto [spread_items, spread_cluster] = Heights(spread);
+  const auto [tight_items, tight_cluster] = Heights(tight);
+  EXPECT_GT(SiblingAgreement(spread_items, spread_cluster, options).back(), 0.5);
+  EXPECT_LT(SiblingAgreement(tight_items, tight_cluster, options).back(), 0.1);
+}
+
 TEST(ChildNormalSpread, WeightedRmsAngleUnderThePoses) {
   const double deg = M_PI / 180;
   PoseVector poses(2);

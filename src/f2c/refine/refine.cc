@@ -202,7 +202,11 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     stage.Restart();
     constraints.structure = {};
     if (options.structure && it >= first_structure) {
-      ProxyHierarchy hierarchy = BuildProxyHierarchy(schedule, it, index, result.poses, options.hierarchy);
+      HierarchyOptions hierarchy_options = options.hierarchy;
+      if (s.polish && options.polish_coplanar_agreement_scale > 0) {
+        hierarchy_options.agreement_scale = options.polish_coplanar_agreement_scale;
+      }
+      ProxyHierarchy hierarchy = BuildProxyHierarchy(schedule, it, index, result.poses, hierarchy_options);
       hierarchy.structure.relations = DetectRelations(hierarchy, options.relations, &s.relations);
       s.hierarchy = hierarchy.stats;
       s.child_normal_spread_deg = ChildNormalSpreadDeg(hierarchy.structure, result.poses);

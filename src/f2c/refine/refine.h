@@ -96,6 +96,17 @@ struct RefineOptions {
   // (0.0074 -> 0.0085 m) and fr1/xyz's (0.0108 -> 0.0109 m), and changes little on walks
   // that chose nothing.
   double polish_coplanarity_loss_scale = 0;
+  // E_H's agreement with the siblings (HierarchyOptions::agreement_scale, k) in the polish
+  // iterations, beyond the paper (0: as in the others, --coplanar-agreement-scale). A child
+  // centimetres off a parent whose other children agree to millimetres (a proxy fitted across
+  // a wall jog) lets go, while a parent whose children all spread keeps every link's pull.
+  // Measured (BENCHMARKS.md, nineteenth stop): the apartment walks' worst drift 0.87 -> 0.71
+  // deg and correspondence RMSE 0.0072 -> 0.0063 m, the real sequences and the walks that
+  // chose nothing level, a 5,000-frame walk's correspondence RMSE 0.0074 -> 0.0078 m (the
+  // 5 mm loss above: 0.0085). In every iteration (--coplanar-agreement-scale 2) it costs that
+  // walk 0.0091 m: in the schedule's iterations weakly tracked frames are still misplaced,
+  // and their children look like the jog's.
+  double polish_coplanar_agreement_scale = 2;
 
   template <class V>
   void Fields(V& v) {
@@ -130,6 +141,8 @@ struct RefineOptions {
     F2C_FIELD(v, polish_coplanarity_loss_scale, "--polish-coplanarity-loss-scale", AtLeast(0),
               "Cauchy scale of E_H in the polish iterations (m; 0: as in the others; the tighter of it and "
               "--coplanarity-loss-scale)");
+    F2C_FIELD(v, polish_coplanar_agreement_scale, "--polish-coplanar-agreement-scale", AtLeast(0),
+              "E_H's sibling agreement k in the polish iterations (0: as in the others, --coplanar-agreement-scale)");
     F2C_NESTED(v, hierarchy);
     F2C_NESTED(v, relations);
     F2C_NESTED(v, loops);
