@@ -266,6 +266,7 @@ ProxyHierarchy BuildProxyHierarchy(const WindowSchedule& schedule, int iteration
                            static_cast<float>(agreement[i])});
         h.child_parents[child].push_back(parent);
         frames.insert(s.children[child].frame);
+        if (agreement[i] < 0.5) h.stats.links_discounted++;
       }
       if (frames.size() >= 2) h.stats.parents_spanning_frames++;
     }
@@ -293,7 +294,8 @@ nlohmann::json ToJson(const HierarchyStats& s) {
   return {{"children", s.children},
           {"parents", s.parents},
           {"parents_spanning_frames", s.parents_spanning_frames},
-          {"links", s.links}};
+          {"links", s.links},
+          {"links_discounted", s.links_discounted}};
 }
 
 }  // namespace f2c

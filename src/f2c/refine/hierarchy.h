@@ -104,6 +104,7 @@ struct HierarchyStats {
   int parents = 0;
   int parents_spanning_frames = 0;  // parents whose children come from two or more frames
   int links = 0;
+  int links_discounted = 0;  // links whose sibling agreement is below one half
 };
 
 struct ProxyHierarchy {

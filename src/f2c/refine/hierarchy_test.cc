@@ -151,10 +151,47 @@ TEST(BuildProxyHierarchy, OneParentPerWindowAndALinkPerChildAndWindow) {
   EXPECT_EQ(full.stats.links, 4);
 }
 
-// The children's normal spread: the inlier-weighted RMS angle to their parents, each child's
-// normal turned into the world by its frame's pose. Child 0 (frame 0, identity) is 1 deg off
-// the parent's z, child 1 (frame 1, turned 90 deg about z) 2 deg off, with 3 times the
-// weight: sqrt((1 + 3 * 4) / 4) deg.
+// Six frames see the wall z = 3; frame 5's proxy lies 4 cm before it (within the merge
+// distance, as a proxy across a wall jog can). With the sibling agreement on, the whole-scan
+// parent's link to it is discounted and the others are whole; off, every link weighs 1.
+TEST(BuildProxyHierarchy, AChildOffItsAgreeingSiblingsIsDiscounted) {
+  FeatureIndex index;
+  PoseVector poses(6);
+  for (int f = 0; f < 6; ++f) {
+    poses[f].translation = Eigen::Vector3d(0.3 * f, 0, 0);
+    PlanarProxy p;
+    p.normal = Eigen::Vector3f(0, 0, -1);
+    p.centroid = Eigen::Vector3f(0, 0.1f, f == 5 ? 2.96f : 3.0f + 0.0005f * (f % 2));
+    p.offset = p.normal.dot(p.centroid);
+    p.covariance = Eigen::Vector3f(0.1f, 0.1f, 0).asDiagonal();
+    p.inliers = 100;
+    auto frame = std::make_unique<FrameIndex>();
+    frame->proxies.push_back(p);
+    index.frames.push_back(std::move(frame));
+  }
+  WindowOptions w;
+  w.initial_frames = 2;
+  const WindowSchedule schedule(w, std::vector<double>(6, 0.0));
+  const int last = schedule.iterations() - 1;
+  HierarchyOptions options;
+  options.agreement_scale = 2;
+  const ProxyHierarchy on = BuildProxyHierarchy(schedule, last, index, poses, options);
+  ASSERT_EQ(on.stats.parents, 1);
+  ASSERT_EQ(on.stats.links, 6);
+  EXPECT_EQ(on.stats.links_discounted, 1);
+  for (const CoplanarLink& l : on.structure.links) {
+    // s is the 3 mm floor, t 4 cm (or 0.5 mm): 1 / (1 + (t / 6 mm)^2).
+    if (l.child == 5) {
+      EXPECT_NEAR(l.agreement, 1 / (1 + std::pow(0.04 / 0.006, 2)), 1e-3);
+    } else {
+      EXPECT_GT(l.agreement, 0.99) << l.child;
+    }
+  }
+  const ProxyHierarchy off = BuildProxyHierarchy(schedule, last, index, poses, HierarchyOptions());
+  EXPECT_EQ(off.stats.links_discounted, 0);
+  for (const CoplanarLink& l : off.structure.links) EXPECT_EQ(l.agreement, 1.0f);
+}
+
 // A cluster of items on the plane z = 0 (normal +z) at the given heights, unit weights.
 std::pair<std::vector<ClusterItem>, PlaneCluster> Heights(const std::vector<double>& z) {
   std::vector<ClusterItem> items;
@@ -210,6 +247,10 @@ TEST(SiblingAgreement, WhenAllChildrenSpreadNoneIsSingledOut) {
   EXPECT_LT(SiblingAgreement(tight_items, tight_cluster, options).back(), 0.1);
 }
 
+// The children's normal spread: the inlier-weighted RMS angle to their parents, each child's
+// normal turned into the world by its frame's pose. Child 0 (frame 0, identity) is 1 deg off
+// the parent's z, child 1 (frame 1, turned 90 deg about z) 2 deg off, with 3 times the
+// weight: sqrt((1 + 3 * 4) / 4) deg.
 TEST(ChildNormalSpread, WeightedRmsAngleUnderThePoses) {
   const double deg = M_PI / 180;
   PoseVector poses(2);
