@@ -100,13 +100,14 @@ struct RefineOptions {
   // iterations, beyond the paper (0: as in the others, --coplanar-agreement-scale). A child
   // centimetres off a parent whose other children agree to millimetres (a proxy fitted across
   // a wall jog) lets go, while a parent whose children all spread keeps every link's pull.
-  // Measured (BENCHMARKS.md, nineteenth stop): the apartment walks' worst drift 0.87 -> 0.71
-  // deg and correspondence RMSE 0.0072 -> 0.0063 m, the real sequences and the walks that
-  // chose nothing level, a 5,000-frame walk's correspondence RMSE 0.0074 -> 0.0078 m (the
-  // 5 mm loss above: 0.0085). In every iteration (--coplanar-agreement-scale 2) it costs that
-  // walk 0.0091 m: in the schedule's iterations weakly tracked frames are still misplaced,
-  // and their children look like the jog's.
-  double polish_coplanar_agreement_scale = 2;
+  // Measured (BENCHMARKS.md, nineteenth stop), k = 3: the apartment walks' worst drift 0.87 ->
+  // 0.77 deg and correspondence RMSE 0.0072 -> 0.0064 m, the real sequences, the walks that
+  // chose nothing and a 5,000-frame walk's correspondence RMSE level. A tighter k gains more
+  // on the walks with a wall jog but costs the 5,000-frame walk (k = 2: 0.0074 -> 0.0078 m,
+  // k = 1.5: 0.0092), and so does the weighting in every iteration (k = 2: 0.0091 m): in the
+  // schedule's iterations weakly tracked frames are still misplaced, and their children
+  // look like the jog's.
+  double polish_coplanar_agreement_scale = 3;
 
   template <class V>
   void Fields(V& v) {
