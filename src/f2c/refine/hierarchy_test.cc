@@ -109,6 +109,27 @@ TEST(ClusterCoplanar, SurfacesThatOneImageSeesApartAreNeverMerged) {
 
 // Four frames see the same wall; windows of 2 frames overlap by one: three windows, one
 // parent each, every child linked to the parent of each window it is in.
+// A frame whose image holds one proxy: the plane with this normal through this centroid
+// (camera coordinates).
+std::unique_ptr<FrameIndex> OneProxyFrame(const Eigen::Vector3d& normal, const Eigen::Vector3d& centroid, int inliers) {
+  PlanarProxy p;
+  p.normal = normal.cast<float>();
+  p.centroid = centroid.cast<float>();
+  p.offset = p.normal.dot(p.centroid);
+  p.covariance = Eigen::Vector3f(0.1f, 0.1f, 0).asDiagonal();
+  p.inliers = inliers;
+  auto frame = std::make_unique<FrameIndex>();
+  frame->proxies.push_back(p);
+  return frame;
+}
+
+// The window schedule of `frames` frames starting from windows of two.
+WindowSchedule PairsFirst(int frames) {
+  WindowOptions w;
+  w.initial_frames = 2;
+  return WindowSchedule(w, std::vector<double>(frames, 0.0));
+}
+
 TEST(BuildProxyHierarchy, OneParentPerWindowAndALinkPerChildAndWindow) {
   FeatureIndex index;
   PoseVector poses;
@@ -119,19 +140,10 @@ TEST(BuildProxyHierarchy, OneParentPerWindowAndALinkPerChildAndWindow) {
     poses.push_back(pose);
     // The wall z = 3 (normal towards the cameras: -z), in this camera's coordinates.
     const Rigid3d camera_from_world = pose.ToRigid().inverse();
-    PlanarProxy p;
-    p.normal = (camera_from_world.linear() * Eigen::Vector3d(0, 0, -1)).cast<float>();
-    p.centroid = (camera_from_world * Eigen::Vector3d(0.2 * f, 0.1, 3)).cast<float>();
-    p.offset = p.normal.dot(p.centroid);
-    p.covariance = Eigen::Vector3f(0.1f, 0.1f, 0).asDiagonal();
-    p.inliers = 50 + f;
-    auto frame = std::make_unique<FrameIndex>();
-    frame->proxies.push_back(p);
-    index.frames.push_back(std::move(frame));
+    index.frames.push_back(OneProxyFrame(camera_from_world.linear() * Eigen::Vector3d(0, 0, -1),
+                                         camera_from_world * Eigen::Vector3d(0.2 * f, 0.1, 3), 50 + f));
   }
-  WindowOptions w;
-  w.initial_frames = 2;
-  const WindowSchedule schedule(w, std::vector<double>(4, 0.0));
+  const WindowSchedule schedule = PairsFirst(4);
   const ProxyHierarchy h = BuildProxyHierarchy(schedule, 0, index, poses, HierarchyOptions());
   ASSERT_EQ(schedule.Windows(0).size(), 3u);
   EXPECT_EQ(h.stats.children, 4);
@@ -159,19 +171,10 @@ TEST(BuildProxyHierarchy, AChildOffItsAgreeingSiblingsIsDiscounted) {
   PoseVector poses(6);
   for (int f = 0; f < 6; ++f) {
     poses[f].translation = Eigen::Vector3d(0.3 * f, 0, 0);
-    PlanarProxy p;
-    p.normal = Eigen::Vector3f(0, 0, -1);
-    p.centroid = Eigen::Vector3f(0, 0.1f, f == 5 ? 2.96f : 3.0f + 0.0005f * (f % 2));
-    p.offset = p.normal.dot(p.centroid);
-    p.covariance = Eigen::Vector3f(0.1f, 0.1f, 0).asDiagonal();
-    p.inliers = 100;
-    auto frame = std::make_unique<FrameIndex>();
-    frame->proxies.push_back(p);
-    index.frames.push_back(std::move(frame));
+    const double z = f == 5 ? 2.96 : 3.0 + 0.0005 * (f % 2);
+    index.frames.push_back(OneProxyFrame(Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(0, 0.1, z), 100));
   }
-  WindowOptions w;
-  w.initial_frames = 2;
-  const WindowSchedule schedule(w, std::vector<double>(6, 0.0));
+  const WindowSchedule schedule = PairsFirst(6);
   const int last = schedule.iterations() - 1;
   HierarchyOptions options;
   options.agreement_scale = 2;
