@@ -274,6 +274,7 @@ ProxyHierarchy BuildProxyHierarchy(const WindowSchedule& schedule, int iteration
   h.stats.children = static_cast<int>(s.children.size());
   h.stats.parents = static_cast<int>(s.parents.size());
   h.stats.links = static_cast<int>(s.links.size());
+  h.stats.agreement_scale = options.agreement_scale;
   return h;
 }
 
@@ -295,7 +296,8 @@ nlohmann::json ToJson(const HierarchyStats& s) {
           {"parents", s.parents},
           {"parents_spanning_frames", s.parents_spanning_frames},
           {"links", s.links},
-          {"links_discounted", s.links_discounted}};
+          {"links_discounted", s.links_discounted},
+          {"agreement_scale", s.agreement_scale}};
 }
 
 }  // namespace f2c

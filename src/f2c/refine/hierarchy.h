@@ -105,6 +105,7 @@ struct HierarchyStats {
   int parents_spanning_frames = 0;  // parents whose children come from two or more frames
   int links = 0;
   int links_discounted = 0;  // links whose sibling agreement is below one half
+  double agreement_scale = 0;  // the k the links were weighted with (0: off)
 };
 
 struct ProxyHierarchy {
