@@ -26,13 +26,19 @@ struct FeatureCorrespondence {
 };
 
 // E_L: the relative transform a_from_b that T0 holds between frames a and b, and how much
-// it is trusted (relative weight within E_L, > 0).
+// it is trusted (relative weight within E_L, > 0). `measured`: every odometry pair on the
+// path between a and b measured every direction of its motion (SIFT, tracking, or ICP that
+// left nothing to the prediction), so the correspondences see what it says and may outvote it.
 struct RelativePoseConstraint {
   int32_t frame_a = 0;
   int32_t frame_b = 0;
   Eigen::Quaterniond rotation_a_from_b = Eigen::Quaterniond::Identity();
   Eigen::Vector3d translation_a_from_b = Eigen::Vector3d::Zero();
   double weight = 1;
+  bool measured = true;
+  // The fewest RANSAC inliers of a SIFT or tracked pair on that path (ICP pairs count as
+  // dense); a large number where there is none.
+  int32_t weakest_inliers = 1 << 30;
 };
 
 // E_V (beyond the paper): frames a, b, c consecutive in time, whose motion should be steady.

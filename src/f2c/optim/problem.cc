@@ -281,7 +281,13 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   for (const RelativePoseConstraint& l : local) {
     if (options.weight_local == 0 || sum_l <= 0) break;
     F2C_CHECK(l.frame_a >= 0 && l.frame_a < n && l.frame_b >= 0 && l.frame_b < n, "local frames in range");
-    const auto [s, loss] = pp.Weigh(options.weight_local * l.weight / sum_l, options.local_loss_scale, kTermL);
+    double scale = options.local_loss_scale;
+    const bool weak = options.measured_local_loss_max_inliers == 0 || l.weakest_inliers < options.measured_local_loss_max_inliers;
+    if (l.measured && weak && options.measured_local_loss_scale > 0 &&
+        (scale == 0 || options.measured_local_loss_scale < scale)) {
+      scale = options.measured_local_loss_scale;
+    }
+    const auto [s, loss] = pp.Weigh(options.weight_local * l.weight / sum_l, scale, kTermL);
     pp.Add(kTermL,
            RelativePoseCost::Create(l.rotation_a_from_b, l.translation_a_from_b, s, s * options.rotation_lever_arm),
            loss, blocks(l.frame_a, l.frame_b));

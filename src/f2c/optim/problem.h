@@ -67,6 +67,20 @@ struct SolverOptions {
   // with least squares, loops spread such an error over every pair; a robust E_L lets it
   // stay where it is.
   double local_loss_scale = 0.0;
+  // Cauchy scale of E_L's measured constraints only (RelativePoseConstraint::measured; metres;
+  // 0: as local_loss_scale; the tighter of the two holds for them). Constraints through an ICP
+  // pair that left directions to the motion prior keep local_loss_scale: nothing else holds
+  // those directions (BENCHMARKS.md, twentieth stop). The refinement sets it in its polish
+  // iterations (refine/refine.h).
+  double measured_local_loss_scale = 0.0;
+  // ...and only where the constraint's weakest SIFT or tracked pair had fewer RANSAC inliers
+  // than this (0: every measured constraint). Pairs with few keypoints are the ones whose turn
+  // is poorly conditioned: on the simulated walks those under 50 inliers are 0.3-0.65 deg off
+  // RMS, those over 0.1-0.24 (BENCHMARKS.md, eighth stop). On the real sequences under 0.5% of
+  // the pairs have fewer; with every measured constraint through the loss, TUM fr1/xyz lost
+  // 0.0107 -> 0.0113 m and 7-Scenes redkitchen 0.0268 -> 0.0290 (BENCHMARKS.md, twenty-first
+  // stop): there the correspondences are noisier than the odometry.
+  int measured_local_loss_max_inliers = 50;
   // Cauchy scale of E_V's residuals (metres; rotations at the lever arm); 0: least squares.
   double velocity_loss_scale = 0.0;
   double match_loss_scale = 0.05;  // metres
@@ -122,6 +136,10 @@ struct SolverOptions {
     F2C_FIELD(v, weight_inertia, "--weight-inertia", AtLeast(0), "w_I, E_I's total weight");
     F2C_FIELD(v, rotation_lever_arm, "--rotation-lever-arm", Positive(), "E_L/E_I compare rotations at this distance (m/rad)");
     F2C_FIELD(v, local_loss_scale, "--local-loss-scale", AtLeast(0), "Cauchy scale of E_L (m; 0: least squares)");
+    F2C_FIELD(v, measured_local_loss_scale, "--measured-local-loss-scale", AtLeast(0),
+              "Cauchy scale of E_L's pairs measured in every direction (m; 0: as --local-loss-scale; the tighter holds)");
+    F2C_FIELD(v, measured_local_loss_max_inliers, "--measured-local-loss-max-inliers", AtLeast(0),
+              "...only where the weakest SIFT or tracked pair on the path had fewer RANSAC inliers (0: all)");
     F2C_FIELD(v, weight_velocity, "--weight-velocity", AtLeast(0),
               "w_V, E_V's total weight (steady motion over consecutive frames; 0: off, the paper)");
     F2C_FIELD(v, velocity_loss_scale, "--velocity-loss-scale", AtLeast(0), "Cauchy scale of E_V (m; 0: least squares)");

@@ -299,6 +299,77 @@ TEST(SolvePoses, SteadyMotionTurnsBackAFrameThatOneWrongPairTurned) {
   }
 }
 
+// One wrong odometry pair among links that agree: frames 0-4, each held to the next and to
+// the one after it, all at the truth but the pair 1 -> 2, which is 3 deg and 3 cm off (a
+// tracked pair whose 20 keypoints sat on one object; the others had 200). In least squares
+// the other links share its error and frame 2 turns; through E_L's loss for weak measured
+// pairs (--measured-local-loss-scale, the refinement's --polish-local-loss-scale; fewer
+// inliers than --measured-local-loss-max-inliers) the links that agree outvote it. The loss
+// leaves alone a pair with many inliers and one that left directions to the motion prior
+// (measured false): nothing else would hold those directions.
+TEST(SolvePoses, MeasuredLocalLossLetsAWeakWrongPairGo) {
+  const int n = 5;
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(0.03, Eigen::Vector3d(0.1, 1, 0.2).normalized()));
+  PoseVector truth(n);
+  for (int i = 1; i < n; ++i) {
+    truth[i].rotation = truth[i - 1].rotation * turn;
+    truth[i].translation = truth[i - 1].translation + Eigen::Vector3d(0.02, 0.003, -0.005);
+  }
+  auto make = [&](bool wrong_measured, int wrong_inliers, double wrong_deg) {
+    std::vector<RelativePoseConstraint> local;
+    for (int a = 0; a < n; ++a) {
+      for (int b = a + 1; b <= a + 2 && b < n; ++b) {
+        Rigid3d a_from_b = truth[a].ToRigid().inverse() * truth[b].ToRigid();
+        RelativePoseConstraint l{a, b, Eigen::Quaterniond(a_from_b.linear()), a_from_b.translation(), 1.0};
+        l.weakest_inliers = 200;
+        if (a == 1 && b == 2) {
+          l.rotation_a_from_b = l.rotation_a_from_b * Eigen::AngleAxisd(wrong_deg * M_PI / 180, Eigen::Vector3d::UnitZ());
+          l.translation_a_from_b += Eigen::Vector3d(0.01 * wrong_deg, 0, 0);
+          l.measured = wrong_measured;
+          l.weakest_inliers = wrong_inliers;
+        }
+        local.push_back(l);
+      }
+    }
+    return local;
+  };
+  auto error_deg = [&](const PoseVector& poses) {
+    // Frame 2 against frame 1: the relative turn the wrong pair asks for.
+    return (poses[1].rotation.conjugate() * poses[2].rotation)
+               .angularDistance(truth[1].rotation.conjugate() * truth[2].rotation) *
+           180 / M_PI;
+  };
+  SolverOptions least_squares;
+  least_squares.solve = SolveMode::kConverge;
+  least_squares.weight_inertia = 1e-9;
+  SolverOptions robust = least_squares;
+  robust.measured_local_loss_scale = 0.01;
+  ASSERT_EQ(robust.measured_local_loss_max_inliers, 50);
+
+  auto solve = [&](const std::vector<RelativePoseConstraint>& local, const SolverOptions& options) {
+    PoseVector poses = truth;
+    EXPECT_TRUE(SolvePoses({{}, local, {}, {}}, options, &poses).usable);
+    return error_deg(poses);
+  };
+  const double ls = solve(make(true, 20, 3.0), least_squares);
+  const double weak = solve(make(true, 20, 3.0), robust);
+  const double strong = solve(make(true, 200, 3.0), robust);
+  const double unmeasured = solve(make(false, 20, 3.0), robust);
+  std::printf("frames 1 -> 2 turned (deg): least squares %.3f; loss: weak pair %.3f, strong pair %.3f, unmeasured %.3f\n",
+              ls, weak, strong, unmeasured);
+  // Least squares: the pair's 3 deg split between it and the links that disagree with it.
+  EXPECT_GT(ls, 0.5);
+  EXPECT_LT(ls, 2.5);
+  EXPECT_LT(weak, 0.25 * ls);
+  EXPECT_NEAR(strong, ls, 1e-6);  // every link has 200 inliers: least squares, exactly
+  EXPECT_NEAR(unmeasured, ls, 1e-6);  // the weak link is not measured, the others are strong
+  // With no wrong pair the loss leaves the truth alone: started 0.2 deg off, frame 2 comes back.
+  PoseVector poses = truth;
+  poses[2].rotation = poses[2].rotation * Eigen::AngleAxisd(0.2 * M_PI / 180, Eigen::Vector3d::UnitX());
+  ASSERT_TRUE(SolvePoses({{}, make(true, 20, 0.0), {}, {}}, robust, &poses).usable);
+  EXPECT_LT(error_deg(poses), 0.01);
+}
+
 TEST(SolvePoses, OneGaussNewtonStepReducesTheCost) {
   const Scene scene = MakeScene(6);
   std::mt19937 rng(9);

@@ -34,12 +34,16 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
   options.Check();
   const int n = static_cast<int>(pairs.size()) + 1;
   std::vector<double> confidence(n, 1.0);  // of frame k's pair; frame 0 has none
+  std::vector<char> measured(n, 1);        // frame k's pair measured every direction
+  std::vector<int> inliers(n, 1 << 30);    // frame k's RANSAC inliers (SIFT, tracking)
   std::vector<int> reference(n, -1);
   std::vector<Rigid3d> world_from(n, Rigid3d::Identity());  // T0, chained along the references
   for (int k = 1; k < n; ++k) {
     const PairAlignment& pair = pairs[k - 1];
     F2C_CHECK(pair.Reference() >= 0 && pair.Reference() < k, "a pair's reference precedes its frame");
     confidence[k] = PairConfidence(pair, options);
+    if (pair.method == AlignmentMethod::kSift || pair.method == AlignmentMethod::kTrack) inliers[k] = pair.inliers;
+    measured[k] = pair.method != AlignmentMethod::kMotionPrior && !(pair.method == AlignmentMethod::kIcp && pair.degenerate > 0);
     reference[k] = pair.Reference();
     world_from[k] = world_from[reference[k]] * pair.prev_from_curr;
   }
@@ -52,6 +56,23 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
       later = reference[later];
     }
     return w;
+  };
+  auto path_measured = [&](int a, int b) {
+    while (a != b) {
+      int& later = a > b ? a : b;
+      if (!measured[later]) return false;
+      later = reference[later];
+    }
+    return true;
+  };
+  auto path_inliers = [&](int a, int b) {
+    int fewest = 1 << 30;
+    while (a != b) {
+      int& later = a > b ? a : b;
+      fewest = std::min(fewest, inliers[later]);
+      later = reference[later];
+    }
+    return fewest;
   };
   std::vector<RelativePoseConstraint> out;
   auto add = [&](int a, int b) {
@@ -68,6 +89,8 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
     c.rotation_a_from_b = Eigen::Quaterniond(a_from_b.linear()).normalized();
     c.translation_a_from_b = a_from_b.translation();
     c.weight = weight;
+    c.measured = path_measured(a, b);
+    c.weakest_inliers = path_inliers(a, b);
     out.push_back(c);
   };
   const int max_span = 1 << options.max_power;

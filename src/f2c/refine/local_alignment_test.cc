@@ -58,6 +58,8 @@ TEST(LocalConstraints, PowersOfTwoChainedWithTheWeakestLink) {
     EXPECT_LT(r.rotation_a_from_b.angularDistance(Eigen::Quaterniond(chained.linear())), 1e-12);
     const bool spans_icp = r.frame_a < 10 && r.frame_b >= 10;
     EXPECT_NEAR(r.weight, spans_icp ? 0.3 : PairConfidence(pairs[0], o), 1e-9) << r.frame_a << " " << r.frame_b;
+    // The ICP pair left three directions to the prediction: every span across it is unmeasured.
+    EXPECT_EQ(r.measured, !spans_icp) << r.frame_a << " " << r.frame_b;
   }
 }
 
@@ -92,6 +94,36 @@ TEST(LocalConstraints, KeyframeReferencesFollowTheTreeOfReferences) {
     const Rigid3d a_from_b = world[r.frame_a].inverse() * world[r.frame_b];
     EXPECT_LT((r.translation_a_from_b - a_from_b.translation()).norm(), 1e-12);
     EXPECT_LT(r.rotation_a_from_b.angularDistance(Eigen::Quaterniond(a_from_b.linear())), 1e-12);
+  }
+}
+
+// A constraint is measured when every pair on its path in the tree of references measured
+// every direction: SIFT, tracking and ICP with nothing left to the prediction are; ICP that
+// left directions to it (degenerate > 0) and the motion prior itself are not.
+TEST(LocalConstraints, MeasuredWhereEveryPairOnThePathMeasuredEveryDirection) {
+  std::vector<PairAlignment> pairs;
+  for (int k = 1; k <= 6; ++k) pairs.push_back(Pair(k, AlignmentMethod::kTrack, 100, 1.0, 0.1 * k));
+  pairs[1] = Pair(2, AlignmentMethod::kIcp, 0, 1.0, 0.2);  // frames 1 -> 2, degenerate 3
+  pairs[3] = Pair(4, AlignmentMethod::kIcp, 0, 1.0, 0.4);  // frames 3 -> 4, every direction measured
+  pairs[3].degenerate = 0;
+  pairs[5] = Pair(6, AlignmentMethod::kMotionPrior, 0, 0.0, 0.6);  // frames 5 -> 6
+  LocalAlignmentOptions o;
+  o.max_power = 1;
+  std::map<std::pair<int, int>, bool> expected = {
+      {{0, 1}, true}, {{1, 2}, false}, {{2, 3}, true}, {{3, 4}, true}, {{4, 5}, true}, {{5, 6}, false},
+      {{0, 2}, false}, {{1, 3}, false}, {{2, 4}, true}, {{3, 5}, true}, {{4, 6}, false}};
+  pairs[2].inliers = 30;  // frames 2 -> 3, tracked with few keypoints
+  const std::vector<RelativePoseConstraint> c = LocalConstraints(pairs, o);
+  ASSERT_EQ(c.size(), expected.size());
+  for (const RelativePoseConstraint& r : c) {
+    const auto it = expected.find({r.frame_a, r.frame_b});
+    ASSERT_NE(it, expected.end()) << r.frame_a << " " << r.frame_b;
+    EXPECT_EQ(r.measured, it->second) << r.frame_a << " " << r.frame_b;
+    // The weakest SIFT or tracked pair on the path; ICP and the prior count as none.
+    const bool through_3 = r.frame_a < 3 && r.frame_b >= 3;
+    const bool tracked = !(r.frame_a == 1 && r.frame_b == 2) && !(r.frame_a == 3 && r.frame_b == 4) &&
+                         !(r.frame_a == 5 && r.frame_b == 6);
+    EXPECT_EQ(r.weakest_inliers, through_3 ? 30 : tracked ? 100 : 1 << 30) << r.frame_a << " " << r.frame_b;
   }
 }
 

@@ -242,8 +242,10 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     };
     tighten(options.polish_relation_loss_scale_deg, &solver.relation_loss_scale_deg);
     tighten(options.polish_coplanarity_loss_scale, &solver.coplanarity_loss_scale);
+    tighten(options.polish_local_loss_scale, &solver.measured_local_loss_scale);
     s.relation_loss_scale_deg = solver.relation_loss_scale_deg;
     s.coplanarity_loss_scale = solver.coplanarity_loss_scale;
+    s.local_loss_scale = solver.measured_local_loss_scale;
     s.solve = SolvePoses(constraints, solver, &result.poses);
     s.seconds_solve = stage.Seconds();
     PoseChange(before, result.poses, &s);
@@ -283,6 +285,7 @@ nlohmann::json ToJson(const IterationSummary& s) {
                        {"E_G", s.weight_relation}}},
           {"relation_loss_scale_deg", s.relation_loss_scale_deg},
           {"coplanarity_loss_scale_m", s.coplanarity_loss_scale},
+          {"local_loss_scale_m", s.local_loss_scale},
           {"hierarchy", ToJson(s.hierarchy)},
           {"child_normal_spread_deg", s.child_normal_spread_deg},
           {"coplanarity_noise_factor", s.coplanarity_noise_factor},

@@ -262,6 +262,8 @@ TEST_F(RefineOnAWalk, StructureStraightensRotationDrift) {
     polishing += s.polish;
     EXPECT_EQ(s.relation_loss_scale_deg, s.polish ? options.polish_relation_loss_scale_deg : 0.0) << s.iteration;
     EXPECT_EQ(s.coplanarity_loss_scale, 0.0) << s.iteration;  // E_H least squares throughout, the paper's
+    // E_L's weakly tracked, fully measured links through their loss in the polish iterations only.
+    EXPECT_EQ(s.local_loss_scale, s.polish ? options.polish_local_loss_scale : 0.0) << s.iteration;
     // The sibling agreement weighs E_H's links in the polish iterations only
     // (--polish-coplanar-agreement-scale); elsewhere every link keeps its full weight.
     if (s.hierarchy.links == 0) continue;  // before the structure's first iteration
