@@ -47,37 +47,29 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
     reference[k] = pair.Reference();
     world_from[k] = world_from[reference[k]] * pair.prev_from_curr;
   }
-  // The weakest alignment on the path between a and b in the tree of references.
-  auto path_confidence = [&](int a, int b) {
-    double w = 1.0;
-    while (a != b) {
-      int& later = a > b ? a : b;
-      w = std::min(w, confidence[later]);
-      later = reference[later];
-    }
-    return w;
+  // Over the path between a and b in the tree of references: the weakest alignment's
+  // confidence, whether every pair measured every direction, and the fewest inliers.
+  struct Path {
+    double confidence = 1.0;
+    bool measured = true;
+    int weakest_inliers = 1 << 30;
   };
-  auto path_measured = [&](int a, int b) {
+  auto path = [&](int a, int b) {
+    Path p;
     while (a != b) {
       int& later = a > b ? a : b;
-      if (!measured[later]) return false;
+      p.confidence = std::min(p.confidence, confidence[later]);
+      p.measured = p.measured && measured[later];
+      p.weakest_inliers = std::min(p.weakest_inliers, inliers[later]);
       later = reference[later];
     }
-    return true;
-  };
-  auto path_inliers = [&](int a, int b) {
-    int fewest = 1 << 30;
-    while (a != b) {
-      int& later = a > b ? a : b;
-      fewest = std::min(fewest, inliers[later]);
-      later = reference[later];
-    }
-    return fewest;
+    return p;
   };
   std::vector<RelativePoseConstraint> out;
   auto add = [&](int a, int b) {
     const Rigid3d a_from_b = world_from[a].inverse() * world_from[b];
-    double weight = path_confidence(a, b);
+    const Path p = path(a, b);
+    double weight = p.confidence;
     if (options.distance_sigma > 0) {
       const double d = a_from_b.translation().norm();
       weight *= std::exp(-d * d / (2 * options.distance_sigma * options.distance_sigma));
@@ -89,8 +81,8 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
     c.rotation_a_from_b = Eigen::Quaterniond(a_from_b.linear()).normalized();
     c.translation_a_from_b = a_from_b.translation();
     c.weight = weight;
-    c.measured = path_measured(a, b);
-    c.weakest_inliers = path_inliers(a, b);
+    c.measured = p.measured;
+    c.weakest_inliers = p.weakest_inliers;
     out.push_back(c);
   };
   const int max_span = 1 << options.max_power;
