@@ -90,12 +90,15 @@ struct RefineOptions {
   // apart (a wall and the next one behind it); under least squares such a child turns its
   // frame through its tilt (1.4-1.7 deg on the simulator) and, more, its centimetres of
   // offset from its parent (BENCHMARKS.md, eighteenth stop). Through the loss it lets go,
-  // while children that agree with their parent pull as before. Off by default: measured
-  // (BENCHMARKS.md, eighteenth stop), 5 mm lowers the apartment walks' worst drift (0.87 ->
-  // 0.66 deg) and redkitchen's ATE, but raises a 5,000-frame walk's correspondence error
-  // (0.0074 -> 0.0085 m) and fr1/xyz's (0.0108 -> 0.0109 m), and changes little on walks
-  // that chose nothing.
-  double polish_coplanarity_loss_scale = 0;
+  // while children that agree with their parent pull as before. Measured (BENCHMARKS.md,
+  // eighteenth stop), 5 mm lowered the apartment walks' worst drift (0.87 -> 0.66 deg) and
+  // redkitchen's ATE, but raised a 5,000-frame walk's correspondence error (0.0074 -> 0.0085
+  // m), so it stayed off. With E_L's weakly tracked links through their own loss
+  // (polish_local_loss_scale) that cost is gone (0.0071 -> 0.0072 m), and it is on by default
+  // (BENCHMARKS.md, twenty-first stop): the nine walks' worst drift 0.77 -> 0.67 deg (the
+  // scene means' mean), their correspondence RMSE 0.0064 -> 0.0060 m, fr1/xyz 0.0107 ->
+  // 0.0108 m (level with --no-structure), redkitchen 0.0265 -> 0.0262.
+  double polish_coplanarity_loss_scale = 0.005;
   // E_H's agreement with the siblings (HierarchyOptions::agreement_scale, k) in the polish
   // iterations, beyond the paper (0: as in the others, --coplanar-agreement-scale). A child
   // centimetres off a parent whose other children agree to millimetres (a proxy fitted across
