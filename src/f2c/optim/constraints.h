@@ -25,6 +25,9 @@ struct FeatureCorrespondence {
   Eigen::Vector3f point = Eigen::Vector3f::Zero();
 };
 
+// RelativePoseConstraint::weakest_inliers where no SIFT or tracked pair lies on the path.
+inline constexpr int32_t kNoInlierCount = 1 << 30;
+
 // E_L: the relative transform a_from_b that T0 holds between frames a and b, and how much
 // it is trusted (relative weight within E_L, > 0). `measured`: every odometry pair on the
 // path between a and b measured every direction of its motion (SIFT, tracking, or ICP that
@@ -37,8 +40,8 @@ struct RelativePoseConstraint {
   double weight = 1;
   bool measured = true;
   // The fewest RANSAC inliers of a SIFT or tracked pair on that path (ICP pairs count as
-  // dense); a large number where there is none.
-  int32_t weakest_inliers = 1 << 30;
+  // dense); kNoInlierCount where there is none.
+  int32_t weakest_inliers = kNoInlierCount;
 };
 
 // E_V (beyond the paper): frames a, b, c consecutive in time, whose motion should be steady.

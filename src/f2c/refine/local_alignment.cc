@@ -35,7 +35,7 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
   const int n = static_cast<int>(pairs.size()) + 1;
   std::vector<double> confidence(n, 1.0);  // of frame k's pair; frame 0 has none
   std::vector<char> measured(n, 1);        // frame k's pair measured every direction
-  std::vector<int> inliers(n, 1 << 30);    // frame k's RANSAC inliers (SIFT, tracking)
+  std::vector<int> inliers(n, kNoInlierCount);    // frame k's RANSAC inliers (SIFT, tracking)
   std::vector<int> reference(n, -1);
   std::vector<Rigid3d> world_from(n, Rigid3d::Identity());  // T0, chained along the references
   for (int k = 1; k < n; ++k) {
@@ -52,7 +52,7 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
   struct Path {
     double confidence = 1.0;
     bool measured = true;
-    int weakest_inliers = 1 << 30;
+    int weakest_inliers = kNoInlierCount;
   };
   auto path = [&](int a, int b) {
     Path p;

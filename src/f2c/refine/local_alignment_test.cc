@@ -123,7 +123,7 @@ TEST(LocalConstraints, MeasuredWhereEveryPairOnThePathMeasuredEveryDirection) {
     const bool through_3 = r.frame_a < 3 && r.frame_b >= 3;
     const bool tracked = !(r.frame_a == 1 && r.frame_b == 2) && !(r.frame_a == 3 && r.frame_b == 4) &&
                          !(r.frame_a == 5 && r.frame_b == 6);
-    EXPECT_EQ(r.weakest_inliers, through_3 ? 30 : tracked ? 100 : 1 << 30) << r.frame_a << " " << r.frame_b;
+    EXPECT_EQ(r.weakest_inliers, through_3 ? 30 : tracked ? 100 : kNoInlierCount) << r.frame_a << " " << r.frame_b;
   }
 }
 

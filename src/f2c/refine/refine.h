@@ -185,7 +185,7 @@ struct IterationSummary {
   double weight_proxy = 0, weight_coplanarity = 0, weight_relation = 0;
   double relation_loss_scale_deg = 0;  // E_G's Cauchy scale this iteration (0: least squares)
   double coplanarity_loss_scale = 0;   // E_H's (metres)
-  double local_loss_scale = 0;         // E_L's (metres)
+  double local_loss_scale = 0;         // E_L's weakly tracked, measured links' (metres)
   double child_normal_spread_deg = 0;  // with the structure: ChildNormalSpreadDeg, this iteration's windows
   double coplanarity_noise_factor = 1;  // w_H's factor from the measured spread
   HierarchyStats hierarchy;
