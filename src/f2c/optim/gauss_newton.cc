@@ -3,10 +3,12 @@
 #include <cholmod.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "f2c/util/error.h"
 
@@ -23,15 +25,20 @@ namespace {
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-// One residual block linearised at the current variables: its share of the normal
-// equations, per free block i its gradient J_i^T r and per pair i <= j of free blocks
+// One residual block linearised at the current variables is its share of the normal
+// equations: per free block i its gradient J_i^T r and per pair i <= j of free blocks
 // J_i^T J_j (transposed where the variables' order is the other way round). Stored flat, in
-// one buffer: the gradients in the blocks' order, then the products (i, j), i <= j, in row
-// order (0,0), (0,1), ..., (1,1), ..., each column-major.
-struct Linearised {
-  bool ok = true;
-  std::vector<double> values;
-};
+// the block's slot of one buffer for all blocks: the gradients in the blocks' order, then
+// the products (i, j), i <= j, in row order (0,0), (0,1), ..., (1,1), ..., each
+// column-major. LinearisedSize is a slot's length.
+size_t LinearisedSize(const std::vector<int>& free_vars, const std::vector<int>& tangent) {
+  size_t total = 0;
+  for (size_t a = 0; a < free_vars.size(); ++a) {
+    total += tangent[free_vars[a]];
+    for (size_t b = a; b < free_vars.size(); ++b) total += tangent[free_vars[a]] * tangent[free_vars[b]];
+  }
+  return total;
+}
 
 // 1/2 rho(|r|^2), and Ceres' corrector for it: residuals scaled by `residual_scale`, the
 // Jacobian J <- sqrt(rho') (J - alpha_sq_norm r r^T J) (with the residuals before scaling).
@@ -118,11 +125,15 @@ class Pattern {
 
   void Clear() { std::fill(values_.begin(), values_.end(), 0.0); }
 
-  // Adds `block` (tangent[a] x tangent[b], column-major) at variables (a, b), a <= b.
-  void Add(int a, int b, const double* block) {
+  // Where block (a, b), a <= b, starts in each of b's scalar columns.
+  int Offset(int a, int b) const {
     const std::vector<int>& r = rows_[b];
     const int k = static_cast<int>(std::lower_bound(r.begin(), r.end(), a) - r.begin());
-    const int offset = offsets_[b][k];
+    return offsets_[b][k];
+  }
+  // Adds `block` (tangent[a] x tangent[b], column-major) at variables (a, b), a <= b, whose
+  // place in b's columns is `offset` (from Offset). Touches b's columns only.
+  void Add(int a, int b, int offset, const double* block) {
     for (int q = 0; q < tangent_[b]; ++q) {
       double* column = values_.data() + column_pointers_[start_[b] + q] + offset;
       for (int p = 0; p < tangent_[a]; ++p) column[p] += block[q * tangent_[a] + p];
@@ -189,8 +200,8 @@ class Pattern {
 };
 
 // H x = b by CHOLMOD's Cholesky (H from its upper triangle). The symbolic analysis (the fill-
-// reducing ordering and the factor's structure) is done once, at the first solve: the steps
-// of one Solve share their Pattern.
+// reducing ordering and the factor's structure) is done once, by Analyze or else at the first
+// solve: the steps of one Solve share their Pattern.
 class Cholesky {
  public:
   explicit Cholesky(GaussNewtonOptions::Ordering ordering) : ordering_(ordering) {
@@ -206,21 +217,27 @@ class Cholesky {
   Cholesky(const Cholesky&) = delete;
   Cholesky& operator=(const Cholesky&) = delete;
 
-  // False if H is not positive definite (or CHOLMOD fails otherwise).
-  bool Solve(Pattern* h, const Eigen::VectorXd& b, Eigen::VectorXd* x) {
-    const int n = static_cast<int>(b.size());
-    cholmod_sparse a = UpperView(n, &h->column_pointers(), &h->row_indices(), &h->values());
-    if (factor_ == nullptr) {
-      std::vector<int> perm = h->BlockOrdering(ordering_, &common_);
-      if (static_cast<int>(perm.size()) == n) {
-        common_.method[0].ordering = CHOLMOD_GIVEN;
-        factor_ = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &common_);
-      }
+  // The symbolic analysis of H's pattern (n columns); reads the pattern only, so it may run
+  // while H's values are being computed.
+  void Analyze(Pattern* h, int n) {
+    if (factor_ != nullptr) return;
+    cholmod_sparse a = UpperView(n, &h->column_pointers(), &h->row_indices(), nullptr);
+    std::vector<int> perm = h->BlockOrdering(ordering_, &common_);
+    if (static_cast<int>(perm.size()) == n) {
+      common_.method[0].ordering = CHOLMOD_GIVEN;
+      factor_ = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &common_);
     }
     if (factor_ == nullptr) {  // CHOLMOD's own AMD on the scalars
       common_.method[0].ordering = CHOLMOD_AMD;
       factor_ = cholmod_analyze(&a, &common_);
     }
+  }
+
+  // False if H is not positive definite (or CHOLMOD fails otherwise).
+  bool Solve(Pattern* h, const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+    const int n = static_cast<int>(b.size());
+    Analyze(h, n);
+    cholmod_sparse a = UpperView(n, &h->column_pointers(), &h->row_indices(), &h->values());
     if (factor_ == nullptr || !cholmod_factorize(&a, factor_, &common_) || common_.status != CHOLMOD_OK) return false;
     cholmod_dense rhs{};
     rhs.nrow = n;
@@ -243,21 +260,23 @@ class Cholesky {
   cholmod_factor* factor_ = nullptr;
 };
 
+constexpr int kMaxBlocks = 16;  // parameter blocks per residual block
+
 // Per-thread scratch space for Linearise.
 struct Scratch {
   std::vector<double> r, ambient, tangents;
 };
 
-// Residual block `res` linearised: `vars` its blocks' variables, `free_vars` those that move
-// (start >= 0), `size` and `tangent` each variable's ambient and tangent sizes, and
-// `plus_jacobians` each free variable's manifold Jacobian (empty: Euclidean).
-Linearised Linearise(const GaussNewtonResidual& res, const std::vector<int>& vars, const std::vector<int>& free_vars,
-                     const std::vector<int>& start, const std::vector<int>& size, const std::vector<int>& tangent,
-                     const std::vector<RowMatrix>& plus_jacobians, Scratch* scratch) {
-  Linearised l;
+// Residual block `res` linearised into `out` (its slot, LinearisedSize long): `vars` its
+// blocks' variables, `free_vars` those that move (start >= 0), `size` and `tangent` each
+// variable's ambient and tangent sizes, and `plus_jacobians` each free variable's manifold
+// Jacobian (empty: Euclidean). False where the residuals are not finite.
+bool Linearise(const GaussNewtonResidual& res, const std::vector<int>& vars, const std::vector<int>& free_vars,
+               const std::vector<int>& start, const std::vector<int>& size, const std::vector<int>& tangent,
+               const std::vector<RowMatrix>& plus_jacobians, Scratch* scratch, double* out) {
   const int m = res.cost->num_residuals();
   const int nb = static_cast<int>(res.blocks.size());
-  F2C_CHECK(nb <= 16, "at most 16 parameter blocks per residual block");
+  F2C_CHECK(nb <= kMaxBlocks, "at most 16 parameter blocks per residual block");
   // The ambient Jacobians side by side (each m x size, row-major), then the tangent ones.
   int ambient_size = 0, tangent_size = 0;
   for (int v : free_vars) {
@@ -267,44 +286,36 @@ Linearised Linearise(const GaussNewtonResidual& res, const std::vector<int>& var
   scratch->r.resize(m);
   scratch->ambient.resize(static_cast<size_t>(m) * ambient_size);
   scratch->tangents.resize(static_cast<size_t>(m) * tangent_size);
-  double* jacobians[16] = {};
+  double* jacobians[kMaxBlocks] = {};
   for (int b = 0, offset = 0; b < nb; ++b) {
     if (start[vars[b]] < 0) continue;
     jacobians[b] = scratch->ambient.data() + static_cast<size_t>(m) * offset;
     offset += size[vars[b]];
   }
   const Eigen::Map<Eigen::VectorXd> residual(scratch->r.data(), m);
-  if (!res.cost->Evaluate(res.blocks.data(), scratch->r.data(), jacobians) || !residual.allFinite()) {
-    l.ok = false;
-    return l;
-  }
+  if (!res.cost->Evaluate(res.blocks.data(), scratch->r.data(), jacobians) || !residual.allFinite()) return false;
   const Corrector c = Correct(res.loss, residual.squaredNorm());
-  std::vector<Eigen::Map<RowMatrix>> j;
-  j.reserve(free_vars.size());
+  // Free variable k's tangent Jacobian (m x tangent, row-major) starts at j[k].
+  double* j[kMaxBlocks] = {};
   for (size_t k = 0, a_off = 0, t_off = 0; k < free_vars.size(); ++k) {
     const int v = free_vars[k];
     Eigen::Map<const RowMatrix> jac_ambient(scratch->ambient.data() + m * a_off, m, size[v]);
-    j.emplace_back(scratch->tangents.data() + m * t_off, m, tangent[v]);
+    j[k] = scratch->tangents.data() + m * t_off;
+    Eigen::Map<RowMatrix> jk(j[k], m, tangent[v]);
     if (plus_jacobians[v].size() > 0) {
-      j.back().noalias() = jac_ambient * plus_jacobians[v];
+      jk.noalias() = jac_ambient * plus_jacobians[v];
     } else {
-      j.back() = jac_ambient;
+      jk = jac_ambient;
     }
-    if (c.alpha_sq_norm != 0) j.back() -= c.alpha_sq_norm * residual * (residual.transpose() * j.back());
-    j.back() *= c.jacobian_scale;
+    if (c.alpha_sq_norm != 0) jk -= c.alpha_sq_norm * residual * (residual.transpose() * jk);
+    jk *= c.jacobian_scale;
     a_off += size[v];
     t_off += tangent[v];
   }
-  size_t total = 0;
-  for (size_t a = 0; a < free_vars.size(); ++a) {
-    total += tangent[free_vars[a]];
-    for (size_t b = a; b < free_vars.size(); ++b) total += tangent[free_vars[a]] * tangent[free_vars[b]];
-  }
-  l.values.resize(total);
-  double* out = l.values.data();
+  auto jacobian = [&](size_t k) { return Eigen::Map<const RowMatrix>(j[k], m, tangent[free_vars[k]]); };
   for (size_t a = 0; a < free_vars.size(); ++a) {
     Eigen::Map<Eigen::VectorXd> g(out, tangent[free_vars[a]]);
-    g.noalias() = c.residual_scale * (j[a].transpose() * residual);
+    g.noalias() = c.residual_scale * (jacobian(a).transpose() * residual);
     out += g.size();
   }
   for (size_t a = 0; a < free_vars.size(); ++a) {
@@ -313,11 +324,11 @@ Linearised Linearise(const GaussNewtonResidual& res, const std::vector<int>& var
       const bool ordered = free_vars[a] <= free_vars[b];
       const size_t lo = ordered ? a : b, hi = ordered ? b : a;
       Eigen::Map<Eigen::MatrixXd> p(out, tangent[free_vars[lo]], tangent[free_vars[hi]]);
-      p.noalias() = j[lo].transpose() * j[hi];
+      p.noalias() = jacobian(lo).transpose() * jacobian(hi);
       out += p.size();
     }
   }
-  return l;
+  return true;
 }
 
 }  // namespace
@@ -382,7 +393,41 @@ GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidu
       if (!variables_[v].constant) free_vars[i].push_back(v);
     }
   }
-  Pattern h(free_vars, start, tangent);  // the same for every step
+  // Each block's slot in one buffer of linearisations, and what goes where in the normal
+  // equations: per variable, the gradients and the blocks of its columns, in the residual
+  // blocks' order. Summed per variable in that order, every entry of H and g adds the same
+  // numbers in the same order as a serial sum over the blocks, so the result does not depend
+  // on the threads; the variables' columns are disjoint, so they are summed in parallel.
+  std::vector<size_t> slot(residuals.size() + 1, 0);
+  for (size_t i = 0; i < residuals.size(); ++i) slot[i + 1] = slot[i] + LinearisedSize(free_vars[i], tangent);
+  struct Into {
+    size_t from;  // in the buffer
+    int row;      // the block's variable a (H's block (a, b)); -1 for a gradient
+    int offset;   // where block (a, b) starts in b's columns
+  };
+  std::optional<Pattern> pattern;  // the same for every step
+  std::vector<std::vector<Into>> into(nv);
+  // The pattern, the lists and the symbolic analysis need no values: serial, they are built
+  // beside the first linearisation.
+  auto structure = [&] {
+    pattern.emplace(free_vars, start, tangent);
+    for (size_t i = 0; i < residuals.size(); ++i) {
+      const std::vector<int>& vars = free_vars[i];
+      size_t from = slot[i];
+      for (int v : vars) {
+        into[v].push_back({from, -1, 0});
+        from += tangent[v];
+      }
+      for (size_t a = 0; a < vars.size(); ++a) {
+        for (size_t b = a; b < vars.size(); ++b) {
+          const int lo = std::min(vars[a], vars[b]), hi = std::max(vars[a], vars[b]);
+          into[hi].push_back({from, lo, pattern->Offset(lo, hi)});
+          from += tangent[lo] * tangent[hi];
+        }
+      }
+    }
+  };
+  std::vector<double> linear(slot.back());
   std::vector<RowMatrix> plus_jacobians(nv);
   Cholesky cholesky(options.ordering);
   for (int it = 0; it < options.max_iterations; ++it) {
@@ -392,38 +437,40 @@ GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidu
       plus_jacobians[v].resize(var.size, tangent[v]);
       var.manifold->PlusJacobian(var.x, plus_jacobians[v].data());
     }
-    std::vector<Linearised> linear(residuals.size());
+    tbb::task_group analysis;
+    if (it == 0) {
+      analysis.run([&] {
+        structure();
+        cholesky.Analyze(&*pattern, columns);
+      });
+    }
+    std::vector<char> good(residuals.size(), 1);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, residuals.size()), [&](const tbb::blocked_range<size_t>& range) {
       Scratch scratch;
       for (size_t i = range.begin(); i != range.end(); ++i) {
-        linear[i] = Linearise(residuals[i], block_vars[i], free_vars[i], start, size, tangent, plus_jacobians, &scratch);
+        good[i] = Linearise(residuals[i], block_vars[i], free_vars[i], start, size, tangent, plus_jacobians, &scratch,
+                            linear.data() + slot[i]);
       }
     });
-    for (const Linearised& l : linear) {
-      if (!l.ok) {
-        summary.termination = "the residuals or Jacobians are not finite";
-        return summary;
-      }
+    analysis.wait();
+    if (std::find(good.begin(), good.end(), 0) != good.end()) {
+      summary.termination = "the residuals or Jacobians are not finite";
+      return summary;
     }
-    // Summed in the blocks' order.
+    Pattern& h = *pattern;
     h.Clear();
     Eigen::VectorXd g = Eigen::VectorXd::Zero(columns);
-    for (size_t i = 0; i < linear.size(); ++i) {
-      const std::vector<int>& vars = free_vars[i];
-      const double* in = linear[i].values.data();
-      for (int v : vars) {
-        g.segment(start[v], tangent[v]) += Eigen::Map<const Eigen::VectorXd>(in, tangent[v]);
-        in += tangent[v];
-      }
-      for (size_t a = 0; a < vars.size(); ++a) {
-        for (size_t b = a; b < vars.size(); ++b) {
-          const int lo = std::min(vars[a], vars[b]), hi = std::max(vars[a], vars[b]);
-          h.Add(lo, hi, in);
-          in += tangent[lo] * tangent[hi];
+    tbb::parallel_for(tbb::blocked_range<int>(0, nv), [&](const tbb::blocked_range<int>& range) {
+      for (int v = range.begin(); v != range.end(); ++v) {
+        for (const Into& e : into[v]) {
+          if (e.row < 0) {
+            g.segment(start[v], tangent[v]) += Eigen::Map<const Eigen::VectorXd>(linear.data() + e.from, tangent[v]);
+          } else {
+            h.Add(e.row, v, e.offset, linear.data() + e.from);
+          }
         }
       }
-    }
-    linear.clear();
+    });
     ++summary.iterations;
     Eigen::VectorXd step;
     if (!cholesky.Solve(&h, -g, &step)) {

@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <memory>
@@ -199,6 +200,73 @@ TEST(GaussNewton, AFreeDirectionIsReportedAndNothingMoves) {
   EXPECT_FALSE(s.factorized);
   EXPECT_EQ(s.termination, "the normal equations are not positive definite");
   EXPECT_EQ(x, Eigen::Vector2d(0.3, 0.7));
+}
+
+// A chain of `n` noisy poses: relative-pose constraints to the next two frames (every third
+// under a Cauchy loss) and a pin on each translation; big enough that the linearisation and
+// the summation into the normal equations are split between threads.
+struct ChainProblem {
+  PoseVector poses;
+  ceres::EigenQuaternionManifold quaternion;
+  std::vector<std::unique_ptr<ceres::CostFunction>> costs;
+  ceres::CauchyLoss loss{0.05};
+  std::vector<GaussNewtonResidual> residuals;
+
+  explicit ChainProblem(int n) {
+    std::mt19937 rng(7);
+    std::normal_distribution<double> g(0.0, 1.0);
+    for (int i = 0; i < n; ++i) poses.push_back(RandomPose(rng));
+    for (int i = 0; i < n; ++i) {
+      for (int k = 1; k <= 2 && i + k < n; ++k) {
+        const Pose& a = poses[i];
+        const Pose& b = poses[i + k];
+        const Eigen::Quaterniond q =
+            (a.rotation.conjugate() * b.rotation * Eigen::Quaterniond(Eigen::AngleAxisd(0.02 * g(rng), Eigen::Vector3d::UnitY())))
+                .normalized();
+        const Eigen::Vector3d t =
+            a.rotation.conjugate() * (b.translation - a.translation) + 0.05 * Eigen::Vector3d(g(rng), g(rng), g(rng));
+        costs.emplace_back(RelativePoseCost::Create(q, t, 1.0, 1.0));
+        residuals.push_back({costs.back().get(), (i + k) % 3 == 0 ? &loss : nullptr,
+                             {poses[i].rotation_data(), poses[i].translation_data(), poses[i + k].rotation_data(),
+                              poses[i + k].translation_data()}});
+      }
+      costs.emplace_back(new ceres::AutoDiffCostFunction<Pin, 3, 3>(
+          new Pin{poses[i].translation + 0.1 * Eigen::Vector3d(g(rng), g(rng), g(rng))}));
+      residuals.push_back({costs.back().get(), nullptr, {poses[i].translation_data()}});
+    }
+  }
+
+  GaussNewtonSummary Solve(int threads) {
+    GaussNewtonProblem problem;
+    for (Pose& p : poses) {
+      problem.AddVariable(p.rotation_data(), 4, &quaternion, false);
+      problem.AddVariable(p.translation_data(), 3, nullptr, false);
+    }
+    GaussNewtonOptions options;
+    options.max_iterations = 3;
+    GaussNewtonSummary summary;
+    tbb::task_arena arena(threads);
+    arena.execute([&] { summary = problem.Solve(residuals, options); });
+    return summary;
+  }
+};
+
+TEST(GaussNewton, TheStepDoesNotDependOnTheThreads) {
+  ChainProblem one(400), four(400), start(400);
+  const GaussNewtonSummary a = one.Solve(1);
+  const GaussNewtonSummary b = four.Solve(4);
+  ASSERT_EQ(a.accepted, 3) << a.termination;
+  EXPECT_EQ(b.accepted, 3) << b.termination;
+  EXPECT_EQ(a.final_cost, b.final_cost);
+  EXPECT_LT(a.final_cost, 0.5 * a.initial_cost);
+  double moved = 0;
+  for (size_t i = 0; i < one.poses.size(); ++i) {
+    // Bit for bit: every entry of the normal equations sums the same numbers in the same order.
+    EXPECT_EQ(one.poses[i].rotation.coeffs(), four.poses[i].rotation.coeffs()) << i;
+    EXPECT_EQ(one.poses[i].translation, four.poses[i].translation) << i;
+    moved = std::max(moved, (one.poses[i].translation - start.poses[i].translation).norm());
+  }
+  EXPECT_GT(moved, 1e-3);
 }
 
 }  // namespace
