@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -46,6 +47,23 @@ struct PlaneVariable {
   Eigen::Vector3d normal() const { return plane.head<3>(); }
   double* data() { return plane.data(); }
 };
+
+// Items 0..count-1 grouped by key(i): the groups in increasing key order, each holding
+// make(i) in increasing i (what a std::map of vectors would hold, without its tree walk per
+// item: a stable sort of the indices).
+template <typename Value, typename KeyOf, typename Make>
+auto GroupByPair(size_t count, KeyOf key, Make make) {
+  using Key = decltype(key(size_t{0}));
+  std::vector<std::pair<Key, size_t>> order(count);
+  for (size_t i = 0; i < count; ++i) order[i] = {key(i), i};
+  std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::pair<Key, std::vector<Value>>> groups;
+  for (const auto& [k, i] : order) {
+    if (groups.empty() || groups.back().first != k) groups.emplace_back(k, std::vector<Value>{});
+    groups.back().second.push_back(make(i));
+  }
+  return groups;
+}
 
 std::unique_ptr<ceres::LossFunction> MakeLoss(RobustLoss loss, double scale, double weight) {
   ceres::LossFunction* robust = nullptr;
@@ -254,21 +272,26 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   // E_C: point-to-plane and point-to-line, each weighted w_C v_i / sum(v), robustified; one
   // residual block per ordered frame pair (optim/pair_cost.h).
   using PairKey = std::pair<int, int>;
-  std::map<PairKey, std::vector<PairConstraint>> by_pair;
+  std::vector<std::pair<PairKey, std::vector<PairConstraint>>> by_pair;
   double sum_c = 0;
   for (const FeatureCorrespondence& c : correspondences) sum_c += c.weight;
   if (options.weight_correspondence > 0 && sum_c > 0) {
     for (const FeatureCorrespondence& c : correspondences) {
       F2C_CHECK(c.target_frame >= 0 && c.target_frame < n && c.point_frame >= 0 && c.point_frame < n,
                 "correspondence frames in range");
+    }
+    by_pair = GroupByPair<PairConstraint>(correspondences.size(), [&](size_t i) {
+      return PairKey{correspondences[i].target_frame, correspondences[i].point_frame};
+    }, [&](size_t i) {
+      const FeatureCorrespondence& c = correspondences[i];
       PairConstraint pc;
       pc.kind = c.kind == CorrespondenceKind::kPointToPlane ? ConstraintKind::kPointToPlane : ConstraintKind::kPointToLine;
       pc.weight = options.weight_correspondence * c.weight / sum_c;
       pc.target_point = c.target_point.cast<double>();
       pc.target_direction = c.target_direction.cast<double>();
       pc.point = c.point.cast<double>();
-      by_pair[{c.target_frame, c.point_frame}].push_back(pc);
-    }
+      return pc;
+    });
   }
   for (auto& [key, list] : by_pair) {
     const std::vector<double*> b = blocks(key.first, key.second);
@@ -314,15 +337,20 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   // E_M: SIFT matches, w_M / n each, robustified, batched per frame pair.
   by_pair.clear();
   if (options.weight_match > 0) {
-    for (const PointMatch& m : constraints.matches) {
+    const std::vector<PointMatch>& matches = constraints.matches;
+    for (const PointMatch& m : matches) {
       F2C_CHECK(m.frame_a >= 0 && m.frame_a < n && m.frame_b >= 0 && m.frame_b < n, "match frames in range");
+    }
+    by_pair = GroupByPair<PairConstraint>(matches.size(), [&](size_t i) {
+      return PairKey{matches[i].frame_a, matches[i].frame_b};
+    }, [&](size_t i) {
       PairConstraint pc;
       pc.kind = ConstraintKind::kPointToPoint;
       pc.weight = options.weight_match / n;
-      pc.target_point = m.point_a.cast<double>();
-      pc.point = m.point_b.cast<double>();
-      by_pair[{m.frame_a, m.frame_b}].push_back(pc);
-    }
+      pc.target_point = matches[i].point_a.cast<double>();
+      pc.point = matches[i].point_b.cast<double>();
+      return pc;
+    });
   }
   for (auto& [key, list] : by_pair) {
     const std::vector<double*> b = blocks(key.first, key.second);
