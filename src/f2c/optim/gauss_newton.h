@@ -21,7 +21,7 @@
 // parallel (the columns are disjoint), every entry over its blocks in their order; the
 // normal equations' pattern and the symbolic analysis, which need no values, are built beside
 // the first linearisation (BENCHMARKS.md, twenty-second stop: the same poses to the bit,
-// about 5% less refinement time).
+// about 5% less solve time).
 
 #include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
