@@ -15,13 +15,11 @@
 // (Triggs et al.: the residual and Jacobian scaled by sqrt(rho'), with the curvature term
 // where rho'' > 0), and the step kept only if the cost falls by at least
 // `min_relative_decrease` of what the linear model predicts; otherwise the variables stay as
-// they were. The blocks are evaluated in parallel, each into its own slot, and summed in
-// their order, so the result does not depend on the number of threads. The blocks are
-// linearised into one buffer, and each variable's columns of J^T J and J^T r are summed in
-// parallel (the columns are disjoint), every entry over its blocks in their order; the
-// normal equations' pattern and the symbolic analysis, which need no values, are built beside
-// the first linearisation (BENCHMARKS.md, twenty-second stop: the same poses to the bit,
-// about 5% less solve time).
+// they were. The blocks are linearised in parallel into one buffer, each into its own slot,
+// and each variable's columns of J^T J and J^T r are summed in parallel (the columns are
+// disjoint), every entry over its blocks in their order, so the result does not depend on
+// the number of threads. The pattern and the symbolic analysis, which need no values, are
+// built beside the first linearisation (BENCHMARKS.md, twenty-second stop).
 
 #include <ceres/cost_function.h>
 #include <ceres/loss_function.h>

@@ -51,9 +51,10 @@ struct PlaneVariable {
 // Items 0..count-1 grouped by key(i): the groups in increasing key order, each holding
 // make(i) in increasing i (what a std::map of vectors would hold, without its tree walk per
 // item: a stable sort of the indices).
-template <typename Value, typename KeyOf, typename Make>
-auto GroupByPair(size_t count, KeyOf key, Make make) {
+template <typename KeyOf, typename Make>
+auto GroupByKey(size_t count, KeyOf key, Make make) {
   using Key = decltype(key(size_t{0}));
+  using Value = decltype(make(size_t{0}));
   std::vector<std::pair<Key, size_t>> order(count);
   for (size_t i = 0; i < count; ++i) order[i] = {key(i), i};
   std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -280,7 +281,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       F2C_CHECK(c.target_frame >= 0 && c.target_frame < n && c.point_frame >= 0 && c.point_frame < n,
                 "correspondence frames in range");
     }
-    by_pair = GroupByPair<PairConstraint>(correspondences.size(), [&](size_t i) {
+    by_pair = GroupByKey(correspondences.size(), [&](size_t i) {
       return PairKey{correspondences[i].target_frame, correspondences[i].point_frame};
     }, [&](size_t i) {
       const FeatureCorrespondence& c = correspondences[i];
@@ -341,7 +342,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
     for (const PointMatch& m : matches) {
       F2C_CHECK(m.frame_a >= 0 && m.frame_a < n && m.frame_b >= 0 && m.frame_b < n, "match frames in range");
     }
-    by_pair = GroupByPair<PairConstraint>(matches.size(), [&](size_t i) {
+    by_pair = GroupByKey(matches.size(), [&](size_t i) {
       return PairKey{matches[i].frame_a, matches[i].frame_b};
     }, [&](size_t i) {
       PairConstraint pc;
