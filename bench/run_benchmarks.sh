@@ -35,6 +35,9 @@ peer="${F2C_BENCH_PEER:-open3d}"
 rows="$work/rows.tsv"  # kind, dataset label, variant, kept folder
 : > "$rows"
 [ -x "$bin" ] || { echo "error: $bin not found: run bash scripts/build.sh first" >&2; exit 1; }
+# The run takes about 20 minutes: a copy keeps a rebuild meanwhile from changing the binary
+# under it.
+cp "$bin" "$work/fine2coarse.bin" && bin="$work/fine2coarse.bin"
 
 ablations=(
   "the paper's algorithm only|--no-sift-loops --polish-iterations 0 --weight-velocity 0"

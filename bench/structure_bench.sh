@@ -16,6 +16,8 @@ cd "$(dirname "$0")/.."
 bin="$(pwd)/${1:-build}/apps/fine2coarse"
 work="${2:-$(mktemp -d)}"
 mkdir -p "$work"
+[ -x "$bin" ] || { echo "error: $bin not found: run bash scripts/build.sh first" >&2; exit 1; }
+cp "$bin" "$work/fine2coarse.bin" && bin="$work/fine2coarse.bin"  # a rebuild meanwhile cannot change it
 data="$(pwd)/../shared/data"
 
 variants=(

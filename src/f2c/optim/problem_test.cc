@@ -110,7 +110,7 @@ TEST(SolvePoses, CorrespondencesAloneRecoverPerturbedPoses) {
   options.solve = SolveMode::kConverge;
   options.weight_inertia = 1e-6;  // the reference here is the perturbed start
   SolveSummary s;
-  for (int round = 0; round < 3; ++round) s = SolvePoses({c, {}, {}, {}}, options, &poses);
+  for (int round = 0; round < 3; ++round) s = SolvePoses({c, {}, {}, {}, {}}, options, &poses);
   ASSERT_TRUE(s.usable) << s.termination;
   EXPECT_LT(MaxTranslationError(poses, scene.truth), 1e-4);
   EXPECT_LT(MaxRotationErrorDeg(poses, scene.truth), 0.01);
@@ -135,12 +135,12 @@ TEST(SolvePoses, ASingularStepFallsBackToCeres) {
   options.weight_inertia = 0;
   options.weight_velocity = 0;
   PoseVector poses = scene.truth;
-  const SolveSummary s = SolvePoses({{c}, {}, {}, {}}, options, &poses);
+  const SolveSummary s = SolvePoses({{c}, {}, {}, {}, {}}, options, &poses);
   ASSERT_TRUE(s.usable);
   EXPECT_EQ(s.termination, "NO_CONVERGENCE");  // Ceres' word: it solved
   EXPECT_LE(s.cost_after.at("E_C"), s.cost_before.at("E_C"));
   options.solve = SolveMode::kConverge;
-  const SolveSummary converged = SolvePoses({{c}, {}, {}, {}}, options, &poses);
+  const SolveSummary converged = SolvePoses({{c}, {}, {}, {}, {}}, options, &poses);
   ASSERT_TRUE(converged.usable);
   EXPECT_LT(converged.cost_after.at("E_C"), 0.5 * converged.cost_before.at("E_C"));  // measured 0.39 of it
   EXPECT_EQ(poses[0].translation, scene.truth[0].translation);  // held
@@ -154,7 +154,7 @@ TEST(SolvePoses, LocalConstraintsAtTheTruthCostNothing) {
     local.push_back({a, a + 1, Eigen::Quaterniond(a_from_b.linear()), a_from_b.translation(), 1.0 + a});
   }
   PoseVector poses = scene.truth;
-  SolveSummary s = SolvePoses({{}, local, {}, {}}, {}, &poses);
+  SolveSummary s = SolvePoses({{}, local, {}, {}, {}}, {}, &poses);
   EXPECT_LT(s.cost_before.at("E_L"), 1e-20);
   EXPECT_LT(MaxTranslationError(poses, scene.truth), 1e-9);
   // From perturbed poses, the chain of relative transforms alone brings them back (the first
@@ -164,7 +164,7 @@ TEST(SolvePoses, LocalConstraintsAtTheTruthCostNothing) {
   SolverOptions options;
   options.solve = SolveMode::kConverge;
   options.weight_inertia = 1e-9;
-  for (int round = 0; round < 3; ++round) s = SolvePoses({{}, local, {}, {}}, options, &poses);
+  for (int round = 0; round < 3; ++round) s = SolvePoses({{}, local, {}, {}, {}}, options, &poses);
   EXPECT_LT(MaxTranslationError(poses, scene.truth), 1e-5);
   EXPECT_LT(MaxRotationErrorDeg(poses, scene.truth), 1e-3);
 }
@@ -189,7 +189,7 @@ TEST(SolvePoses, TheFreeGaugeTreatsFrameZeroAsAnyOther) {
     options.solve = SolveMode::kOneStep;
     options.fix_first_pose = hold;
     options.weight_inertia = 30;  // comparable to E_L, so where the correction goes matters
-    SolvePoses({{}, local, {}, {}}, options, &poses);
+    SolvePoses({{}, local, {}, {}, {}}, options, &poses);
     EXPECT_LT((poses[0].translation - start[id(0)].translation).norm(), 1e-12);
     EXPECT_LT(poses[0].rotation.angularDistance(start[id(0)].rotation), 1e-12);
     PoseVector in_order(4);
@@ -215,7 +215,7 @@ TEST(SolvePoses, TermWeightsAreTotalsSharedAmongResiduals) {
   std::vector<RelativePoseConstraint> local = {{0, 1, Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 0, 0), 7.0}};
   SolverOptions options;
   options.weight_local = 300;
-  const SolveSummary s = SolvePoses({{}, local, {}, {}}, options, &poses);
+  const SolveSummary s = SolvePoses({{}, local, {}, {}, {}}, options, &poses);
   EXPECT_NEAR(s.cost_before.at("E_L"), 0.5 * 300 * 0.01, 1e-9);
   // E_I starts at zero and ends small; E_L almost vanishes.
   EXPECT_NEAR(s.cost_before.at("E_I"), 0.0, 1e-15);
@@ -226,7 +226,7 @@ TEST(SolvePoses, TermWeightsAreTotalsSharedAmongResiduals) {
   poses = PoseVector(2);
   poses[1].translation = Eigen::Vector3d(1.1, 0, 0);
   options.local_loss_scale = 0.05;
-  const SolveSummary robust = SolvePoses({{}, local, {}, {}}, options, &poses);
+  const SolveSummary robust = SolvePoses({{}, local, {}, {}, {}}, options, &poses);
   EXPECT_NEAR(robust.cost_before.at("E_L"), 0.5 * 300 * 0.0025 * std::log(1 + 0.01 / 0.0025), 1e-9);
 }
 
@@ -348,7 +348,7 @@ TEST(SolvePoses, MeasuredLocalLossLetsAWeakWrongPairGo) {
 
   auto solve = [&](const std::vector<RelativePoseConstraint>& local, const SolverOptions& options) {
     PoseVector poses = truth;
-    EXPECT_TRUE(SolvePoses({{}, local, {}, {}}, options, &poses).usable);
+    EXPECT_TRUE(SolvePoses({{}, local, {}, {}, {}}, options, &poses).usable);
     return error_deg(poses);
   };
   const double ls = solve(make(true, 20, 3.0), least_squares);
@@ -377,7 +377,7 @@ TEST(SolvePoses, OneGaussNewtonStepReducesTheCost) {
   PoseVector poses = Perturb(scene.truth, 0.02, 0.01, rng);
   SolverOptions options;
   options.solve = SolveMode::kOneStep;
-  const SolveSummary s = SolvePoses({c, {}, {}, {}}, options, &poses);
+  const SolveSummary s = SolvePoses({c, {}, {}, {}, {}}, options, &poses);
   EXPECT_EQ(s.iterations, 1);
   EXPECT_LT(s.cost_after.at("E_C"), 0.05 * s.cost_before.at("E_C"));
 }

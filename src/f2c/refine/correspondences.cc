@@ -116,7 +116,7 @@ std::vector<FeatureCorrespondence> FindCorrespondences(const std::vector<FramePa
         ++tried[p];
         const Eigen::Vector3f q = target_from_source * from.point(local);
         const Eigen::Vector3f dir = target_from_source.linear() * from.direction(local);
-        const int k = to.Nearest(q, options.neighbours, nearest, d2);
+        const int k = to.Nearest(q, options.neighbours, nearest, d2, max_d2);
         for (int m = 0; m < k; ++m) {
           if (d2[m] > max_d2) break;
           const float c = to.direction(nearest[m]).dot(dir);

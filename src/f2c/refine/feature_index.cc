@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <limits>
 #include <nanoflann.hpp>
 #include <nlohmann/json.hpp>
 
@@ -36,9 +38,19 @@ void FeatureCloud::Build() {
   if (!points_.empty()) tree_ = std::make_unique<Tree>(*this);
 }
 
-int FeatureCloud::Nearest(const Eigen::Vector3f& query, int k, uint32_t* indices, float* squared_distances) const {
-  if (!tree_) return 0;
-  return static_cast<int>(tree_->index.knnSearch(query.data(), k, indices, squared_distances));
+int FeatureCloud::Nearest(const Eigen::Vector3f& query, int k, uint32_t* indices, float* squared_distances,
+                          float max_squared_distance) const {
+  if (!tree_ || k <= 0) return 0;
+  // nanoflann's k-nearest set admits a point closer than its worst slot, which starts at the
+  // largest float: starting it just above the bound prunes every cell beyond the bound, and
+  // the points within it arrive in the same order as in the unbounded search.
+  nanoflann::KNNResultSet<float, uint32_t, size_t> result(static_cast<size_t>(k));
+  result.init(indices, squared_distances);
+  if (max_squared_distance < std::numeric_limits<float>::infinity()) {
+    squared_distances[k - 1] = std::nextafter(max_squared_distance, std::numeric_limits<float>::infinity());
+  }
+  tree_->index.findNeighbors(result, query.data(), nanoflann::SearchParams());
+  return static_cast<int>(result.size());
 }
 
 size_t FeatureCloud::MemoryBytes() const {

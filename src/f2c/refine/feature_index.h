@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <limits>
 #include <memory>
 #include <nlohmann/json_fwd.hpp>
 #include <vector>
@@ -82,8 +83,11 @@ class FeatureCloud {
   const Eigen::Vector3f& direction(int i) const { return directions_[i]; }
   FeatureType type(int i) const { return static_cast<FeatureType>(types_[i]); }
   // Up to `k` nearest points to `query` (camera coordinates of this frame), nearest first;
-  // returns how many, with squared distances.
-  int Nearest(const Eigen::Vector3f& query, int k, uint32_t* indices, float* squared_distances) const;
+  // returns how many, with squared distances. Only points within `max_squared_distance` are
+  // returned: the same as the first of the k nearest that are, found without visiting the
+  // tree's cells beyond it (most queries of a partly overlapping pair find nothing near).
+  int Nearest(const Eigen::Vector3f& query, int k, uint32_t* indices, float* squared_distances,
+              float max_squared_distance = std::numeric_limits<float>::infinity()) const;
   size_t MemoryBytes() const;
 
   // nanoflann's dataset interface.

@@ -69,7 +69,7 @@ bool SiftLoopMatcher::TryPair(int i, int j, const FeatureIndex& index, const Cam
     ++seen;
     uint32_t nearest;
     float d2;
-    if (planes_a.Nearest(q, 1, &nearest, &d2) == 1 && d2 <= radius2 &&
+    if (planes_a.Nearest(q, 1, &nearest, &d2, radius2) == 1 &&
         std::abs(planes_a.direction(nearest).dot(q - planes_a.point(nearest))) <= options_.check_distance &&
         planes_a.direction(nearest).dot(a_from_b.linear() * planes_b.direction(f)) >= min_cos) {
       ++agree;
