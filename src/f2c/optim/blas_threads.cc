@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 
 #include <cstdlib>
+#include <initializer_list>
 
 namespace f2c {
 
@@ -21,6 +22,23 @@ int BlasThreads() {
   using GetThreads = int (*)();
   auto get_threads = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
   return get_threads == nullptr ? -1 : get_threads();
+}
+
+bool UseSerialOpenMp() {
+  for (const char* name : {"OMP_NUM_THREADS", "OMP_THREAD_LIMIT", "OMP_MAX_ACTIVE_LEVELS"}) {
+    if (std::getenv(name) != nullptr) return false;  // the user's choice
+  }
+  using SetLevels = void (*)(int);
+  auto set_levels = reinterpret_cast<SetLevels>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
+  if (set_levels == nullptr) return false;
+  set_levels(0);
+  return true;
+}
+
+int OpenMpMaxActiveLevels() {
+  using GetLevels = int (*)();
+  auto get_levels = reinterpret_cast<GetLevels>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
+  return get_levels == nullptr ? -1 : get_levels();
 }
 
 }  // namespace f2c

@@ -10,6 +10,14 @@
 // So one thread by default: a little slower on an idle machine with a big scan, 2.5 times
 // faster when anything else runs. OPENBLAS_NUM_THREADS, when set, is left to decide.
 
+//
+// CHOLMOD itself (Debian builds it with OpenMP) opens parallel regions of 4 threads in its
+// supernodal factorization for loops that clear or scatter a few thousand entries; on 2
+// cores, beside TBB's workers, every region wakes and then spins threads for a
+// memset's worth of work (perf: libgomp 6% of the refinement's samples, the kernel's futex
+// and scheduling as much again). Measured (BENCHMARKS.md, twenty-third stop), the solve with
+// those regions on one thread: 15-25% less time, the same poses to the bit.
+
 namespace f2c {
 
 // Asks OpenBLAS, if it is the BLAS loaded, to run its kernels in the calling thread only,
@@ -19,5 +27,14 @@ bool UseOneBlasThread();
 
 // OpenBLAS's current thread count, or -1 when OpenBLAS is not loaded.
 int BlasThreads();
+
+// Asks the OpenMP runtime, if one is loaded, to run every parallel region on the thread that
+// meets it (no active levels: omp_set_max_active_levels(0)), unless the environment sets
+// OMP_NUM_THREADS, OMP_THREAD_LIMIT or OMP_MAX_ACTIVE_LEVELS. Idempotent; a no-op without
+// OpenMP. Returns whether it set it.
+bool UseSerialOpenMp();
+
+// The OpenMP runtime's max-active-levels setting, or -1 when none is loaded.
+int OpenMpMaxActiveLevels();
 
 }  // namespace f2c

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <initializer_list>
 
 #include "f2c/optim/problem.h"
 
@@ -18,6 +19,18 @@ TEST(BlasThreads, ASolveLeavesOpenBlasOnOneThread) {
   SolvePoses({}, SolverOptions(), &poses);
   EXPECT_EQ(BlasThreads(), 1);
   EXPECT_TRUE(UseOneBlasThread());
+}
+
+// ... and CHOLMOD's OpenMP regions on the thread that meets them.
+TEST(BlasThreads, ASolveLeavesOpenMpRegionsSerial) {
+  if (OpenMpMaxActiveLevels() < 0) GTEST_SKIP() << "no OpenMP runtime is loaded here";
+  for (const char* name : {"OMP_NUM_THREADS", "OMP_THREAD_LIMIT", "OMP_MAX_ACTIVE_LEVELS"}) {
+    if (std::getenv(name) != nullptr) GTEST_SKIP() << name << " is set: left to it";
+  }
+  PoseVector poses(2);
+  poses[1].translation.x() = 1;
+  SolvePoses({}, SolverOptions(), &poses);
+  EXPECT_EQ(OpenMpMaxActiveLevels(), 0);
 }
 
 }  // namespace

@@ -248,8 +248,11 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   const std::vector<FeatureCorrespondence>& correspondences = constraints.correspondences;
   const std::vector<RelativePoseConstraint>& local = constraints.local;
   options.Check();
-  static std::once_flag blas_once;  // optim/blas_threads.h: OpenBLAS's threads compete with ours
-  std::call_once(blas_once, [] { UseOneBlasThread(); });
+  static std::once_flag blas_once;  // optim/blas_threads.h: OpenBLAS's and OpenMP's threads compete with ours
+  std::call_once(blas_once, [] {
+    UseOneBlasThread();
+    UseSerialOpenMp();
+  });
   Timer timer;
   SolveSummary summary;
   const int n = static_cast<int>(poses->size());
