@@ -61,6 +61,8 @@ struct GaussNewtonSummary {
   // False where the normal equations were not positive definite (a direction nothing
   // constrains): nothing moved, and the caller may solve another way.
   bool factorized = true;
+  // Whether CHOLMOD chose a supernodal factor (dense blocks, BLAS) over a simplicial one.
+  bool supernodal = false;
   std::string termination;
 };
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "f2c/optim/cost_functions.h"
@@ -267,6 +268,96 @@ TEST(GaussNewton, TheStepDoesNotDependOnTheThreads) {
     moved = std::max(moved, (one.poses[i].translation - start.poses[i].translation).norm());
   }
   EXPECT_GT(moved, 1e-3);
+}
+
+// Every frame tied to every other: a dense factor, which CHOLMOD factors supernodally, from
+// H permuted and gathered by our own code (gauss_newton.cc, Cholesky::Permute). The step is
+// still Ceres' one Levenberg-Marquardt step from an infinite trust region (dense QR), and
+// the small problem above takes the simplicial path.
+TEST(GaussNewton, ASupernodalFactorGivesCeresStep) {
+  const int n = 40;
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g(0.0, 1.0);
+  PoseVector poses, start;
+  for (int i = 0; i < n; ++i) poses.push_back(RandomPose(rng));
+  ceres::EigenQuaternionManifold quaternion;
+  std::vector<std::unique_ptr<ceres::CostFunction>> costs;
+  ceres::CauchyLoss loss(0.05);
+  std::vector<std::pair<int, int>> frames;  // each cost's two frames
+  for (int a = 0; a < n; ++a) {
+    for (int b = a + 1; b < n; ++b) {
+      const Eigen::Quaterniond q = (poses[a].rotation.conjugate() * poses[b].rotation *
+                                    Eigen::Quaterniond(Eigen::AngleAxisd(0.02 * g(rng), Eigen::Vector3d::UnitZ())))
+                                       .normalized();
+      const Eigen::Vector3d t = poses[a].rotation.conjugate() * (poses[b].translation - poses[a].translation) +
+                                0.05 * Eigen::Vector3d(g(rng), g(rng), g(rng));
+      costs.emplace_back(RelativePoseCost::Create(q, t, 1.0, 1.0));
+      frames.push_back({a, b});
+    }
+  }
+  auto residuals_on = [&](PoseVector* p) {
+    std::vector<GaussNewtonResidual> residuals;
+    for (size_t k = 0; k < costs.size(); ++k) {
+      const auto [a, b] = frames[k];
+      residuals.push_back({costs[k].get(), (a + b) % 5 == 0 ? &loss : nullptr,
+                           {(*p)[a].rotation_data(), (*p)[a].translation_data(), (*p)[b].rotation_data(),
+                            (*p)[b].translation_data()}});
+    }
+    return residuals;
+  };
+  start = poses;
+  PoseVector ceres_poses = poses;
+  {
+    ceres::Problem::Options o;
+    o.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    o.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    o.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(o);
+    for (int i = 0; i < n; ++i) {
+      problem.AddParameterBlock(ceres_poses[i].rotation_data(), 4, &quaternion);
+      problem.AddParameterBlock(ceres_poses[i].translation_data(), 3);
+    }
+    problem.SetParameterBlockConstant(ceres_poses[0].rotation_data());
+    problem.SetParameterBlockConstant(ceres_poses[0].translation_data());
+    for (const GaussNewtonResidual& r : residuals_on(&ceres_poses)) {
+      problem.AddResidualBlock(const_cast<ceres::CostFunction*>(r.cost), const_cast<ceres::LossFunction*>(r.loss),
+                               r.blocks);
+    }
+    ceres::Solver::Options options;
+    options.linear_solver_type = ceres::DENSE_QR;
+    options.max_num_iterations = 1;
+    options.initial_trust_region_radius = 1e16;
+    ceres::Solver::Summary summary;
+    ceres::Solve(options, &problem, &summary);
+    ASSERT_EQ(summary.iterations.size(), 2u);
+    ASSERT_TRUE(summary.iterations.back().step_is_successful) << summary.FullReport();
+  }
+  for (auto ordering : {GaussNewtonOptions::Ordering::kAmd, GaussNewtonOptions::Ordering::kNestedDissection}) {
+    poses = start;
+    GaussNewtonProblem problem;
+    for (int i = 0; i < n; ++i) {
+      problem.AddVariable(poses[i].rotation_data(), 4, &quaternion, i == 0);
+      problem.AddVariable(poses[i].translation_data(), 3, nullptr, i == 0);
+    }
+    GaussNewtonOptions options;
+    options.ordering = ordering;
+    const GaussNewtonSummary s = problem.Solve(residuals_on(&poses), options);
+    ASSERT_TRUE(s.factorized) << s.termination;
+    EXPECT_TRUE(s.supernodal);
+    EXPECT_EQ(s.accepted, 1) << s.termination;
+    double moved = 0;
+    for (int i = 0; i < n; ++i) {
+      EXPECT_LT((poses[i].rotation.coeffs() - ceres_poses[i].rotation.coeffs()).norm(), 1e-9) << i;
+      EXPECT_LT((poses[i].translation - ceres_poses[i].translation).norm(), 1e-9) << i;
+      moved = std::max(moved, (poses[i].translation - start[i].translation).norm());
+    }
+    EXPECT_GT(moved, 1e-3);
+  }
+  // The small problem's factor is simplicial.
+  SmallProblem small(1);
+  GaussNewtonProblem problem;
+  small.AddTo(&problem);
+  EXPECT_FALSE(problem.Solve(small.residuals, GaussNewtonOptions{}).supernodal);
 }
 
 }  // namespace
