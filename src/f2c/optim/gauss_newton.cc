@@ -188,8 +188,6 @@ class Pattern {
 
   std::vector<int>& column_pointers() { return column_pointers_; }
   std::vector<int>& row_indices() { return row_indices_; }
-  const std::vector<int>& column_pointers() const { return column_pointers_; }
-  const std::vector<int>& row_indices() const { return row_indices_; }
   std::vector<double>& values() { return values_; }
 
  private:
@@ -233,7 +231,6 @@ class Cholesky {
       common_.method[0].ordering = CHOLMOD_AMD;
       factor_ = cholmod_analyze(&a, &common_);
     }
-    if (factor_ != nullptr && factor_->is_super) Permute(*h, n);
   }
 
   bool supernodal() const { return factor_ != nullptr && factor_->is_super; }
@@ -242,24 +239,8 @@ class Cholesky {
   bool Solve(Pattern* h, const Eigen::VectorXd& b, Eigen::VectorXd* x) {
     const int n = static_cast<int>(b.size());
     Analyze(h, n);
-    if (factor_ == nullptr) return false;
-    if (factor_->is_super) {
-      // cholmod_factorize would first build tril(P H P') with a permuted transpose (a quarter
-      // of its time here, and a fresh matrix each step); the same matrix is gathered into
-      // the place Permute worked out with the analysis, and factored as cholmod_factorize
-      // factors it.
-      const std::vector<double>& values = h->values();
-      tbb::parallel_for(size_t{0}, values.size(), [&](size_t k) {
-        if (permuted_.map[k] >= 0) permuted_.values[permuted_.map[k]] = values[k];
-      });
-      cholmod_sparse s = UpperView(n, &permuted_.column_pointers, &permuted_.row_indices, &permuted_.values);
-      s.stype = -1;  // the lower triangle
-      double beta[2] = {0, 0};
-      if (!cholmod_super_numeric(&s, nullptr, beta, factor_, &common_) || common_.status != CHOLMOD_OK) return false;
-    } else {
-      cholmod_sparse a = UpperView(n, &h->column_pointers(), &h->row_indices(), &h->values());
-      if (!cholmod_factorize(&a, factor_, &common_) || common_.status != CHOLMOD_OK) return false;
-    }
+    cholmod_sparse a = UpperView(n, &h->column_pointers(), &h->row_indices(), &h->values());
+    if (factor_ == nullptr || !cholmod_factorize(&a, factor_, &common_) || common_.status != CHOLMOD_OK) return false;
     cholmod_dense rhs{};
     rhs.nrow = n;
     rhs.ncol = 1;
@@ -276,59 +257,9 @@ class Cholesky {
   }
 
  private:
-  // tril(P H P') for the factor's permutation P (L->Perm: the ordering, then CHOLMOD's
-  // postorder) as compressed columns, rows sorted as CHOLMOD's transpose sorts them, and
-  // where each of H's stored entries goes in it (-1: the lower half of a diagonal block).
-  void Permute(const Pattern& h, int n) {
-    const std::vector<int>& hp = h.column_pointers();
-    const std::vector<int>& hi = h.row_indices();
-    const int* perm = static_cast<const int*>(factor_->Perm);
-    std::vector<int> position(n);  // P's inverse: where scalar column j goes
-    for (int k = 0; k < n; ++k) position[perm[k]] = k;
-    // Each kept entry's new row and column; counted by row, then laid into columns row by
-    // row, so that every column's rows come out ascending.
-    std::vector<int> row_start(n + 1, 0), column_count(n, 0);
-    for (int c = 0; c < n; ++c) {
-      for (int k = hp[c]; k < hp[c + 1]; ++k) {
-        if (hi[k] > c) continue;
-        const int a = position[hi[k]], b = position[c];
-        ++row_start[std::max(a, b) + 1];
-        ++column_count[std::min(a, b)];
-      }
-    }
-    for (int r = 0; r < n; ++r) row_start[r + 1] += row_start[r];
-    std::vector<int> by_row(row_start[n]), cursor(row_start.begin(), row_start.end() - 1);
-    for (int c = 0; c < n; ++c) {
-      for (int k = hp[c]; k < hp[c + 1]; ++k) {
-        if (hi[k] <= c) by_row[cursor[std::max(position[hi[k]], position[c])]++] = k;
-      }
-    }
-    permuted_.column_pointers.assign(n + 1, 0);
-    for (int c = 0; c < n; ++c) permuted_.column_pointers[c + 1] = permuted_.column_pointers[c] + column_count[c];
-    permuted_.row_indices.resize(row_start[n]);
-    permuted_.values.assign(row_start[n], 0.0);
-    permuted_.map.assign(hi.size(), -1);
-    std::vector<int> fill(permuted_.column_pointers.begin(), permuted_.column_pointers.end() - 1);
-    // Entry k sits at H's column: found from its place between the column pointers.
-    std::vector<int> column_of(hi.size());
-    for (int c = 0; c < n; ++c) std::fill(column_of.begin() + hp[c], column_of.begin() + hp[c + 1], c);
-    for (int r = 0; r < n; ++r) {
-      for (int q = row_start[r]; q < row_start[r + 1]; ++q) {
-        const int k = by_row[q];
-        const int column = std::min(position[hi[k]], position[column_of[k]]);
-        permuted_.row_indices[fill[column]] = r;
-        permuted_.map[k] = fill[column]++;
-      }
-    }
-  }
-
   GaussNewtonOptions::Ordering ordering_;
   cholmod_common common_;
   cholmod_factor* factor_ = nullptr;
-  struct {
-    std::vector<int> column_pointers, row_indices, map;
-    std::vector<double> values;
-  } permuted_;
 };
 
 constexpr int kMaxBlocks = 16;  // parameter blocks per residual block

@@ -270,10 +270,9 @@ TEST(GaussNewton, TheStepDoesNotDependOnTheThreads) {
   EXPECT_GT(moved, 1e-3);
 }
 
-// Every frame tied to every other: a dense factor, which CHOLMOD factors supernodally, from
-// H permuted and gathered by our own code (gauss_newton.cc, Cholesky::Permute). The step is
-// still Ceres' one Levenberg-Marquardt step from an infinite trust region (dense QR), and
-// the small problem above takes the simplicial path.
+// Every frame tied to every other: a dense factor, which CHOLMOD factors supernodally (the
+// walks' joint steps are; the small problem above takes the simplicial path). The step is
+// still Ceres' one Levenberg-Marquardt step from an infinite trust region (dense QR).
 TEST(GaussNewton, ASupernodalFactorGivesCeresStep) {
   const int n = 40;
   std::mt19937 rng(11);
