@@ -46,6 +46,37 @@ struct Dot {
   }
 };
 
+// One step of Ceres' Levenberg-Marquardt from an infinite trust region (dense QR) on
+// `poses`, the first held, and `planes` (4 doubles each, on `plane_manifold`).
+ceres::Solver::Summary OneCeresStep(PoseVector* poses, const std::vector<GaussNewtonResidual>& residuals,
+                                    const std::vector<double*>& planes = {},
+                                    const ceres::Manifold* plane_manifold = nullptr) {
+  ceres::EigenQuaternionManifold quaternion;
+  ceres::Problem::Options o;
+  o.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  o.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  o.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(o);
+  for (Pose& pose : *poses) {
+    problem.AddParameterBlock(pose.rotation_data(), 4, &quaternion);
+    problem.AddParameterBlock(pose.translation_data(), 3);
+  }
+  for (double* plane : planes) problem.AddParameterBlock(plane, 4, const_cast<ceres::Manifold*>(plane_manifold));
+  problem.SetParameterBlockConstant((*poses)[0].rotation_data());
+  problem.SetParameterBlockConstant((*poses)[0].translation_data());
+  for (const GaussNewtonResidual& r : residuals) {
+    problem.AddResidualBlock(const_cast<ceres::CostFunction*>(r.cost), const_cast<ceres::LossFunction*>(r.loss),
+                             r.blocks);
+  }
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = 1;
+  options.initial_trust_region_radius = 1e16;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  return summary;
+}
+
 // A small pose problem: relative-pose and steady-motion-free constraints between noisy
 // poses, plus a plane tied to one frame (E_P) and pinned translations, some under losses
 // whose second derivative is negative (Cauchy), zero (Huber) and positive (Tolerant), so that
@@ -101,31 +132,7 @@ struct SmallProblem {
   }
 
   // One step of Ceres' Levenberg-Marquardt from an infinite trust region.
-  ceres::Solver::Summary SolveWithCeres() {
-    ceres::Problem::Options o;
-    o.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    o.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    o.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    ceres::Problem problem(o);
-    for (size_t i = 0; i < poses.size(); ++i) {
-      problem.AddParameterBlock(poses[i].rotation_data(), 4, &quaternion);
-      problem.AddParameterBlock(poses[i].translation_data(), 3);
-    }
-    problem.AddParameterBlock(plane.data(), 4, &plane_manifold);
-    problem.SetParameterBlockConstant(poses[0].rotation_data());
-    problem.SetParameterBlockConstant(poses[0].translation_data());
-    for (const GaussNewtonResidual& r : residuals) {
-      problem.AddResidualBlock(const_cast<ceres::CostFunction*>(r.cost), const_cast<ceres::LossFunction*>(r.loss),
-                               r.blocks);
-    }
-    ceres::Solver::Options options;
-    options.linear_solver_type = ceres::DENSE_QR;
-    options.max_num_iterations = 1;
-    options.initial_trust_region_radius = 1e16;
-    ceres::Solver::Summary summary;
-    ceres::Solve(options, &problem, &summary);
-    return summary;
-  }
+  ceres::Solver::Summary SolveWithCeres() { return OneCeresStep(&poses, residuals, {plane.data()}, &plane_manifold); }
 };
 
 TEST(GaussNewton, OneStepIsCeresLevenbergMarquardtStepFromAnInfiniteTrustRegion) {
@@ -306,31 +313,9 @@ TEST(GaussNewton, ASupernodalFactorGivesCeresStep) {
   };
   start = poses;
   PoseVector ceres_poses = poses;
-  {
-    ceres::Problem::Options o;
-    o.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    o.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    o.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    ceres::Problem problem(o);
-    for (int i = 0; i < n; ++i) {
-      problem.AddParameterBlock(ceres_poses[i].rotation_data(), 4, &quaternion);
-      problem.AddParameterBlock(ceres_poses[i].translation_data(), 3);
-    }
-    problem.SetParameterBlockConstant(ceres_poses[0].rotation_data());
-    problem.SetParameterBlockConstant(ceres_poses[0].translation_data());
-    for (const GaussNewtonResidual& r : residuals_on(&ceres_poses)) {
-      problem.AddResidualBlock(const_cast<ceres::CostFunction*>(r.cost), const_cast<ceres::LossFunction*>(r.loss),
-                               r.blocks);
-    }
-    ceres::Solver::Options options;
-    options.linear_solver_type = ceres::DENSE_QR;
-    options.max_num_iterations = 1;
-    options.initial_trust_region_radius = 1e16;
-    ceres::Solver::Summary summary;
-    ceres::Solve(options, &problem, &summary);
-    ASSERT_EQ(summary.iterations.size(), 2u);
-    ASSERT_TRUE(summary.iterations.back().step_is_successful) << summary.FullReport();
-  }
+  const ceres::Solver::Summary summary = OneCeresStep(&ceres_poses, residuals_on(&ceres_poses));
+  ASSERT_EQ(summary.iterations.size(), 2u);
+  ASSERT_TRUE(summary.iterations.back().step_is_successful) << summary.FullReport();
   for (auto ordering : {GaussNewtonOptions::Ordering::kAmd, GaussNewtonOptions::Ordering::kNestedDissection}) {
     poses = start;
     GaussNewtonProblem problem;
