@@ -158,7 +158,10 @@ int RunEvaluate(const EvaluateArgs& args) {
               {"rpe_per_second", {{"translation_m", StatsJson(r.rpe_per_second.translation)},
                                   {"rotation_deg", StatsJson(r.rpe_per_second.rotation)}}},
               {"rotation_drift_deg", StatsJson(r.drift.rotation)},
-              {"rotation_drift_min_seconds", r.drift.min_seconds}};
+              {"rotation_drift_min_seconds", r.drift.min_seconds},
+              {"rotation_drift_p99_deg", r.drift.p99},
+              {"rotation_drift_threshold_deg", r.drift.threshold_deg},
+              {"rotation_drift_share_over_threshold", r.drift.share_over}};
     if (corr) {
       json by_gap = json::array();
       for (const GapBin& b : corr->by_gap) {
@@ -192,6 +195,10 @@ int RunEvaluate(const EvaluateArgs& args) {
   PrintStatsRow("RPE/s translation", "m", r.rpe_per_second.translation);
   PrintStatsRow("RPE/s rotation", "deg", r.rpe_per_second.rotation);
   PrintStatsRow(fmt::format("rotation drift >={:g} s", r.drift.min_seconds).c_str(), "deg", r.drift.rotation);
+  if (r.drift.rotation.count > 0) {
+    std::printf("rotation drift: 99%% of the %d pairs within %.3f deg, %.2f%% beyond %g deg\n", r.drift.rotation.count,
+                r.drift.p99, 100 * r.drift.share_over, r.drift.threshold_deg);
+  }
   if (corr) {
     PrintStatsRow("correspondences", "m", corr->distance);
     if (corr->skipped > 0) std::printf("(%d correspondences skipped: a frame without an estimated pose)\n", corr->skipped);

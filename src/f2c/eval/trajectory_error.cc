@@ -125,6 +125,16 @@ RotationDrift ComputeRotationDrift(const Trajectory& estimate, const Trajectory&
       angles.push_back(RotationAngle(d[i].transpose() * d[j]) * 180.0 / M_PI);
     }
   }
+  result.threshold_deg = options.drift_threshold_deg;
+  if (!angles.empty()) {
+    std::sort(angles.begin(), angles.end());
+    const double rank = 0.99 * static_cast<double>(angles.size() - 1);
+    const size_t below = static_cast<size_t>(rank);
+    const double above = angles[std::min(below + 1, angles.size() - 1)];
+    result.p99 = angles[below] + (rank - static_cast<double>(below)) * (above - angles[below]);
+    const auto first_over = std::upper_bound(angles.begin(), angles.end(), options.drift_threshold_deg);
+    result.share_over = static_cast<double>(angles.end() - first_over) / static_cast<double>(angles.size());
+  }
   result.rotation = ComputeStatistics(std::move(angles));
   return result;
 }

@@ -37,6 +37,10 @@ struct EvaluationOptions {
   // Rotation drift over all pairs of at most this many poses, evenly spaced (every pose when
   // there are fewer): the pairs grow as the square of the poses.
   int drift_max_poses = 2000;
+  // Rotation drift: the share of pairs beyond this angle is reported too (degrees; issue 9's
+  // target for the worst pair), and the 99th percentile: the worst pair is set by a few
+  // frames, the percentile by the scan.
+  double drift_threshold_deg = 0.5;
 
   template <class V>
   void Fields(V& v) {
@@ -47,6 +51,8 @@ struct EvaluationOptions {
     F2C_FIELD(v, drift_min_seconds, "--drift-min-seconds", AtLeast(0),
               "rotation drift: the relative rotation error over all pose pairs at least this far apart in time (s)");
     F2C_FIELD(v, drift_max_poses, "", AtLeast(2), "rotation drift: poses sampled at most");
+    F2C_FIELD(v, drift_threshold_deg, "--drift-threshold", AtLeast(0),
+              "rotation drift: also the share of pairs beyond this angle (deg), and the 99th percentile");
   }
   void Check() const;
 };
@@ -67,6 +73,9 @@ struct RotationDrift {
   ErrorStatistics rotation;  // degrees, over pose pairs
   int poses = 0;             // poses the pairs were drawn from
   double min_seconds = 0;
+  double p99 = 0;            // degrees: the 99th percentile (linear between ranks, as numpy's)
+  double threshold_deg = 0;  // ...and the share of pairs beyond this angle
+  double share_over = 0;
 };
 
 struct EvaluationResult {

@@ -131,6 +131,16 @@ TEST(ComputeRotationDrift, HandComputedAndInvariantToARigidMotionOfTheEstimate) 
   EXPECT_NEAR(d.rotation.max, 1.0, 1e-9);
   EXPECT_NEAR(d.rotation.min, 0.5, 1e-9);
   EXPECT_NEAR(d.rotation.rmse, std::sqrt(sum2 / 21), 1e-9);
+  // Sorted, the 21 angles are 0.5 (6 times), 0.6 (5), 0.7 (4), 0.8 (3), 0.9 (2), 1.0: the 99th
+  // percentile lies 0.8 of the way from the 20th (0.9) to the 21st (1.0).
+  EXPECT_NEAR(d.p99, 0.98, 1e-9);
+  EXPECT_EQ(d.threshold_deg, 0.5);
+  EvaluationOptions options;
+  options.drift_threshold_deg = 0.75;
+  const RotationDrift over = ComputeRotationDrift(est, gt, options);
+  EXPECT_NEAR(over.share_over, 6.0 / 21, 1e-12);  // 0.8, 0.9 and 1.0
+  options.drift_threshold_deg = 1.5;
+  EXPECT_EQ(ComputeRotationDrift(est, gt, options).share_over, 0);
 }
 
 TEST(ComputeRotationDrift, OnlyPairsFarEnoughApartCountAndPosesAreSubsampledEvenly) {
