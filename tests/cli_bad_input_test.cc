@@ -47,6 +47,8 @@ TEST(Cli, OutOfRangeOptionsAreOneLineNamingTheFlag) {
   EXPECT_EQ(r.output, "error: --loss: unknown value 'tukey' (none, huber, cauchy)\n");
   r = RunCli("evaluate --estimate /tmp/a --ground-truth /tmp/b --drift-min-seconds -1");
   EXPECT_EQ(r.output, "error: --drift-min-seconds: must be >= 0, got -1\n");
+  r = RunCli("evaluate --estimate /tmp/a --ground-truth /tmp/b --drift-threshold -0.5");
+  EXPECT_EQ(r.output, "error: --drift-threshold: must be >= 0, got -0.5\n");
   EXPECT_FALSE(fs::exists(out));
 }
 
