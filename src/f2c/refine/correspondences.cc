@@ -116,9 +116,8 @@ std::vector<FeatureCorrespondence> FindCorrespondences(const std::vector<FramePa
         ++tried[p];
         const Eigen::Vector3f q = target_from_source * from.point(local);
         const Eigen::Vector3f dir = target_from_source.linear() * from.direction(local);
-        const int k = to.Nearest(q, options.neighbours, nearest, d2, max_d2);
+        const int k = to.Nearest(q, options.neighbours, nearest, d2, max_d2);  // all within the distance
         for (int m = 0; m < k; ++m) {
-          if (d2[m] > max_d2) break;
           const float c = to.direction(nearest[m]).dot(dir);
           if ((family == 0 ? c : std::abs(c)) < min_cos) continue;
           const FeatureType type = to.type(nearest[m]);
