@@ -45,7 +45,7 @@ ablations=(
   "no steady motion (E_V)|--weight-velocity 0"
   "no polish iterations|--polish-iterations 0"
   "no fine-to-coarse windows|--no-fine-to-coarse"
-  "with the structural model|--structure"
+  "no structural model (E_P, E_H, E_G)|--no-structure"
   "no keyframes (consecutive odometry)|--keyframes off"
 )
 

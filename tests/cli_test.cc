@@ -288,15 +288,17 @@ TEST(Cli, WriteConfigThenConfigReproducesTheRun) {
   EXPECT_EQ(RunCli("--config " + (out / "bad.toml").string() + " register " + dir.string() + " -o /tmp/x").code, 2);
 }
 
-// --structure adds the structural model: each iteration's summary in run.json lists the
-// hierarchy (every child linked, parents from the synthetic room's walls and floor) and the
-// terms E_P and E_H; --no-structure (the default) has none of them.
+// The structural model is on by default (and --structure says so): each iteration's summary
+// in run.json lists the hierarchy (every child linked, parents from the synthetic room's
+// walls and floor) and the terms E_P and E_H; --no-structure has none of them.
 TEST(Cli, StructureAddsTheHierarchyAndItsTermsToEachIteration) {
   const fs::path dir = SyntheticTum("cli_structure", 12);
   const fs::path out = testing::FreshTempDir("cli_structure_out");
   const std::string base = "register " + dir.string() + " --intrinsics primesense -q --window-frames 4 ";
-  ASSERT_EQ(RunCli(base + "--structure -o " + (out / "on").string()).code, 0);
-  ASSERT_EQ(RunCli(base + "-o " + (out / "off").string()).code, 0);
+  ASSERT_EQ(RunCli(base + "-o " + (out / "on").string()).code, 0);
+  ASSERT_EQ(RunCli(base + "--structure -o " + (out / "explicit").string()).code, 0);
+  ASSERT_EQ(RunCli(base + "--no-structure -o " + (out / "off").string()).code, 0);
+  EXPECT_EQ(ReadFileToString(out / "on" / "trajectory.txt"), ReadFileToString(out / "explicit" / "trajectory.txt"));
   const nlohmann::json on = nlohmann::json::parse(ReadFileToString(out / "on" / "run.json"));
   const nlohmann::json off = nlohmann::json::parse(ReadFileToString(out / "off" / "run.json"));
   const nlohmann::json& last = on["stages"]["refine"]["iterations"].back();

@@ -225,7 +225,8 @@ Rigid3d Motion(double angle, const Eigen::Vector3d& axis, const Eigen::Vector3d&
 // or an earlier keyframe, and keeps the frames' timestamps.
 TEST(ConcatenatePairs, ChainsEachFrameOntoItsReference) {
   RgbdSequence seq;
-  for (int i = 0; i < 4; ++i) seq.frames.push_back({.timestamp = 10.0 + i});
+  seq.frames.resize(4);
+  for (int i = 0; i < 4; ++i) seq.frames[i].timestamp = 10.0 + i;
   const Rigid3d a = Motion(0.1, {0, 1, 0}, {0.1, 0, 0});
   const Rigid3d b = Motion(-0.2, {1, 0, 1}, {0, 0.05, 0.02});
   const Rigid3d c = Motion(0.3, {0, 0, 1}, {-0.1, 0.2, 0});

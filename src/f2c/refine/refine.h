@@ -46,12 +46,12 @@ struct RefineOptions {
   SteadyMotionOptions steady_motion;
   SiftLoopOptions loops;
   SolverOptions solver;
-  // The planar structural model (E_P, E_H, E_G), register --structure. Off by default for
-  // now: measured (BENCHMARKS.md), it lowers rotation drift and error on simulated multi-room
-  // walks and helps 7-Scenes redkitchen a little (0.0283 -> 0.0268 m ATE), is level on TUM
-  // fr1/xyz (0.0108 m; it cost 0.0003 there until E_G weighed 1), but costs time (about 1.6x
-  // the refinement's) and SUN3D's five frames a little.
-  bool structure = false;
+  // The planar structural model (E_P, E_H, E_G), on by default as in the paper;
+  // register --no-structure is its ablation. Measured (BENCHMARKS.md): it lowers rotation
+  // drift and correspondence error on every simulated walk and on the 5,000-frame walk,
+  // helps 7-Scenes redkitchen (0.0283 -> 0.0262 m ATE), is level on TUM fr1/xyz (0.0108 m)
+  // and costs about 1.8x the refinement's time (still 5-9 ms per frame on 2 cores).
+  bool structure = true;
   HierarchyOptions hierarchy;
   RelationOptions relations;
   // The structure from this iteration on; < 0: from the first iteration whose window holds
@@ -139,8 +139,7 @@ struct RefineOptions {
     F2C_NESTED(v, solver);
     v.Group("Refinement: planar structure (paper 4.2-4.3)");
     F2C_FIELD(v, structure, "--structure,!--no-structure", {},
-              "the planar structural model E_P, E_H, E_G (default off for now, BENCHMARKS.md; --no-structure: the "
-              "paper's ablation)");
+              "the planar structural model E_P, E_H, E_G (--no-structure: the paper's ablation)");
     F2C_FIELD(v, structure_first_iteration, "--structure-from", AnyFinite(),
               "the structure from this iteration on (< 0: from the first whose window holds the whole scan)");
     F2C_FIELD(v, weight_proxy_initial, "--weight-proxy-initial", AnyFinite(),
