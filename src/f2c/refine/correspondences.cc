@@ -131,6 +131,9 @@ std::vector<FeatureCorrespondence> FindCorrespondences(const std::vector<FramePa
           corr.weight = static_cast<float>(w);
           corr.target_point = to.point(nearest[m]);
           corr.target_direction = to.direction(nearest[m]);
+          if (family == 0 && options.pair_normal == PairNormal::kMean) {
+            corr.target_direction = (corr.target_direction + dir).normalized();  // c > 0: no cancellation
+          }
           corr.point = from.point(local);
           out.push_back(corr);
           ++got;

@@ -1,5 +1,7 @@
 #include "f2c/refine/correspondences.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 namespace f2c {
@@ -119,6 +121,40 @@ TEST(FindCorrespondences, NothingBeyondTheDistanceOrAngle) {
   t.poses[1].translation = Eigen::Vector3d::Zero();
   for (const FeatureCorrespondence& x : FindCorrespondences({{0, 1, 1.0f}}, t.index, t.poses, t.schedule, 0, {0.0, 0.1}, o)) {
     EXPECT_EQ(x.kind, CorrespondenceKind::kPointToLine);  // only the vertical edge survives
+  }
+}
+
+// Each frame's cells of the wall z = 2 tilted 2 degrees its own way (as one view's depth
+// noise tilts them): the target's normal carries frame a's tilt, the mean neither.
+TEST(FindCorrespondences, MeanPairNormalAveragesBothViewsTilts) {
+  FeatureIndex index;
+  PoseVector poses(2);
+  const float tilt = 2 * static_cast<float>(M_PI) / 180;
+  for (int frame = 0; frame < 2; ++frame) {
+    const float sign = frame == 0 ? -1.0f : 1.0f;
+    const Eigen::Vector3f normal(sign * std::sin(tilt), 0, -std::cos(tilt));
+    FrameFeatures f;
+    for (int i = 0; i < 10; ++i) {
+      for (int j = 0; j < 10; ++j) {
+        f.features.push_back(MakeFeature(FeatureType::kPlane, Eigen::Vector3f(-0.5f + 0.1f * i, -0.5f + 0.1f * j, 2), normal));
+      }
+    }
+    index.frames.push_back(BuildFrameIndex(f, FeatureIndexOptions{}));
+  }
+  const WindowSchedule schedule{NoPolish(), {0.0, 0.1}};
+  CorrespondenceOptions o;
+  o.per_frame = 20;
+  for (const PairNormal mode : {PairNormal::kTarget, PairNormal::kMean}) {
+    o.pair_normal = mode;
+    const std::vector<FeatureCorrespondence> c = FindCorrespondences({{0, 1, 1.0f}}, index, poses, schedule, 0, {0.0, 0.1}, o);
+    ASSERT_EQ(c.size(), 40u);
+    for (const FeatureCorrespondence& x : c) {
+      const float sign = x.target_frame == 0 ? -1.0f : 1.0f;
+      const Eigen::Vector3f expected = mode == PairNormal::kMean ? Eigen::Vector3f(0, 0, -1)
+                                                                 : Eigen::Vector3f(sign * std::sin(tilt), 0, -std::cos(tilt));
+      EXPECT_LT((x.target_direction - expected).norm(), 1e-6f) << NameOf(mode);
+      EXPECT_NEAR(x.target_direction.norm(), 1.0f, 1e-6f);
+    }
   }
 }
 
