@@ -162,6 +162,11 @@ int RunEvaluate(const EvaluateArgs& args) {
               {"rotation_drift_p99_deg", r.drift.p99},
               {"rotation_drift_threshold_deg", r.drift.threshold_deg},
               {"rotation_drift_share_over_threshold", r.drift.share_over}};
+    if (r.drift_smoothed.smoothing_seconds > 0) {
+      j["rotation_drift_smoothed_deg"] = StatsJson(r.drift_smoothed.rotation);
+      j["rotation_drift_smoothed_p99_deg"] = r.drift_smoothed.p99;
+      j["rotation_drift_smoothing_seconds"] = r.drift_smoothed.smoothing_seconds;
+    }
     if (corr) {
       json by_gap = json::array();
       for (const GapBin& b : corr->by_gap) {
@@ -198,6 +203,10 @@ int RunEvaluate(const EvaluateArgs& args) {
   if (r.drift.rotation.count > 0) {
     std::printf("rotation drift: 99%% of the %d pairs within %.3f deg, %.2f%% beyond %g deg\n", r.drift.rotation.count,
                 r.drift.p99, 100 * r.drift.share_over, r.drift.threshold_deg);
+  }
+  if (r.drift_smoothed.smoothing_seconds > 0) {
+    PrintStatsRow(fmt::format("...over {:g} s means", r.drift_smoothed.smoothing_seconds).c_str(), "deg",
+                  r.drift_smoothed.rotation);
   }
   if (corr) {
     PrintStatsRow("correspondences", "m", corr->distance);

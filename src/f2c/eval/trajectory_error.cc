@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/SVD>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -102,20 +104,35 @@ RpeResult ComputeRpe(const Trajectory& estimate, const Trajectory& ground_truth,
   return result;
 }
 
-RotationDrift ComputeRotationDrift(const Trajectory& estimate, const Trajectory& ground_truth,
-                                   const EvaluationOptions& options) {
+namespace {
+
+// D_i = Q_i P_i^-1 (rotations) and the estimate's time stamp of every associated pose, in
+// time order.
+void RotationErrors(const Trajectory& estimate, const Trajectory& ground_truth, const EvaluationOptions& options,
+                    std::vector<Eigen::Matrix3d>* d, std::vector<double>* t) {
+  auto matches = internal::AssociateTimestamps(estimate.timestamps, ground_truth.timestamps, options.max_time_difference);
+  std::stable_sort(matches.begin(), matches.end(), [&](const auto& x, const auto& y) {
+    return estimate.timestamps[x.first] < estimate.timestamps[y.first];
+  });
+  for (const auto& [e, g] : matches) {
+    d->push_back(ground_truth.world_from_camera[g].linear() * estimate.world_from_camera[e].linear().transpose());
+    t->push_back(estimate.timestamps[e]);
+  }
+}
+
+// The pairs' statistics over at most drift_max_poses evenly spaced poses.
+RotationDrift DriftOverPairs(const std::vector<Eigen::Matrix3d>& all_d, const std::vector<double>& all_t,
+                             const EvaluationOptions& options) {
   RotationDrift result;
   result.min_seconds = options.drift_min_seconds;
-  const auto matches =
-      internal::AssociateTimestamps(estimate.timestamps, ground_truth.timestamps, options.max_time_difference);
-  // D_i = Q_i P_i^-1 for evenly spaced associated poses.
-  const size_t m = std::min<size_t>(matches.size(), options.drift_max_poses);
+  const size_t total = all_d.size();
+  const size_t m = std::min<size_t>(total, options.drift_max_poses);
   std::vector<Eigen::Matrix3d> d(m);
   std::vector<double> t(m);
   for (size_t k = 0; k < m; ++k) {
-    const auto& [e, g] = matches[m == matches.size() ? k : k * (matches.size() - 1) / (m - 1)];
-    d[k] = ground_truth.world_from_camera[g].linear() * estimate.world_from_camera[e].linear().transpose();
-    t[k] = estimate.timestamps[e];
+    const size_t i = m == total ? k : k * (total - 1) / (m - 1);
+    d[k] = all_d[i];
+    t[k] = all_t[i];
   }
   result.poses = static_cast<int>(m);
   std::vector<double> angles;
@@ -139,11 +156,49 @@ RotationDrift ComputeRotationDrift(const Trajectory& estimate, const Trajectory&
   return result;
 }
 
+}  // namespace
+
+RotationDrift ComputeRotationDrift(const Trajectory& estimate, const Trajectory& ground_truth,
+                                   const EvaluationOptions& options) {
+  std::vector<Eigen::Matrix3d> d;
+  std::vector<double> t;
+  RotationErrors(estimate, ground_truth, options, &d, &t);
+  return DriftOverPairs(d, t, options);
+}
+
+RotationDrift ComputeSmoothedRotationDrift(const Trajectory& estimate, const Trajectory& ground_truth,
+                                           const EvaluationOptions& options) {
+  F2C_CHECK(options.drift_smoothing_seconds > 0, "a smoothing window");
+  std::vector<Eigen::Matrix3d> d;
+  std::vector<double> t;
+  RotationErrors(estimate, ground_truth, options, &d, &t);
+  // Prefix sums of the D_j: each window's sum in O(1), its chordal mean the rotation
+  // nearest to that sum (polar factor U V^T of its SVD, det +1).
+  std::vector<Eigen::Matrix3d> prefix(d.size() + 1, Eigen::Matrix3d::Zero());
+  for (size_t j = 0; j < d.size(); ++j) prefix[j + 1] = prefix[j] + d[j];
+  const double half = options.drift_smoothing_seconds / 2;
+  std::vector<Eigen::Matrix3d> mean(d.size());
+  for (size_t i = 0; i < d.size(); ++i) {
+    const size_t lo = std::lower_bound(t.begin(), t.end(), t[i] - half) - t.begin();
+    const size_t hi = std::upper_bound(t.begin(), t.end(), t[i] + half) - t.begin();
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(prefix[hi] - prefix[lo], Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d s = Eigen::Matrix3d::Identity();
+    s(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1;
+    mean[i] = svd.matrixU() * s * svd.matrixV().transpose();
+  }
+  RotationDrift result = DriftOverPairs(mean, t, options);
+  result.smoothing_seconds = options.drift_smoothing_seconds;
+  return result;
+}
+
 EvaluationResult Evaluate(const Trajectory& estimate, const Trajectory& ground_truth,
                           const EvaluationOptions& options) {
   options.Check();
   EvaluationResult result;
   result.drift = ComputeRotationDrift(estimate, ground_truth, options);
+  if (options.drift_smoothing_seconds > 0) {
+    result.drift_smoothed = ComputeSmoothedRotationDrift(estimate, ground_truth, options);
+  }
   result.ate = ComputeAte(estimate, ground_truth, options);
   result.rpe_per_frame = ComputeRpe(estimate, ground_truth, options.rpe_delta_frames, false);
   result.rpe_per_second = ComputeRpe(estimate, ground_truth, options.rpe_delta_seconds, true);

@@ -15,6 +15,13 @@
 // only), the pair's error is angle(D_i^-1 D_j): how far a wall seen from frame i and the same
 // wall seen from frame j are from parallel after registration, whatever lies between them.
 // Its worst value is what a straight multi-room scan needs small.
+//
+// Smoothed rotation drift: the same pairs, each D_i replaced by the chordal mean of the D_j
+// within drift_smoothing_seconds / 2 of it (all associated poses, before the subsampling;
+// the nearest rotation to their sum). Drift builds up over seconds, while a single frame a
+// few tenths of a degree off its neighbours (a frame the data place poorly) sets the worst
+// pair on its own; the smoothed worst is what remains of the scan's bending once each
+// second of it is averaged, so the two together tell drift from jitter.
 
 #include <vector>
 
@@ -41,6 +48,8 @@ struct EvaluationOptions {
   // target for the worst pair), and the 99th percentile: the worst pair is set by a few
   // frames, the percentile by the scan.
   double drift_threshold_deg = 0.5;
+  // Smoothed rotation drift: each pose's D_i averaged over this window (seconds; 0: off).
+  double drift_smoothing_seconds = 1.0;
 
   template <class V>
   void Fields(V& v) {
@@ -53,6 +62,8 @@ struct EvaluationOptions {
     F2C_FIELD(v, drift_max_poses, "", AtLeast(2), "rotation drift: poses sampled at most");
     F2C_FIELD(v, drift_threshold_deg, "--drift-threshold", AtLeast(0),
               "rotation drift: also the share of pairs beyond this angle (deg), and the 99th percentile");
+    F2C_FIELD(v, drift_smoothing_seconds, "--drift-smoothing", AtLeast(0),
+              "smoothed rotation drift: each pose's rotation error averaged over this window first (s; 0: off)");
   }
   void Check() const;
 };
@@ -76,6 +87,7 @@ struct RotationDrift {
   double p99 = 0;            // degrees: the 99th percentile (linear between ranks, as numpy's)
   double threshold_deg = 0;  // ...and the share of pairs beyond this angle
   double share_over = 0;
+  double smoothing_seconds = 0;  // the window each D_i was averaged over (0: none)
 };
 
 struct EvaluationResult {
@@ -83,6 +95,7 @@ struct EvaluationResult {
   RpeResult rpe_per_frame;
   RpeResult rpe_per_second;
   RotationDrift drift;
+  RotationDrift drift_smoothed;  // count 0 when drift_smoothing_seconds is 0
 };
 
 // InputError (naming "estimate") when fewer than 3 poses associate.
@@ -96,6 +109,10 @@ RpeResult ComputeRpe(const Trajectory& estimate, const Trajectory& ground_truth,
 // Pairs counted: 0 when no two associated poses are min_seconds apart.
 RotationDrift ComputeRotationDrift(const Trajectory& estimate, const Trajectory& ground_truth,
                                    const EvaluationOptions& options = {});
+
+// The smoothed rotation drift (above): drift_smoothing_seconds must be positive.
+RotationDrift ComputeSmoothedRotationDrift(const Trajectory& estimate, const Trajectory& ground_truth,
+                                           const EvaluationOptions& options = {});
 
 EvaluationResult Evaluate(const Trajectory& estimate, const Trajectory& ground_truth,
                           const EvaluationOptions& options = {});

@@ -163,5 +163,50 @@ TEST(ComputeRotationDrift, OnlyPairsFarEnoughApartCountAndPosesAreSubsampledEven
   EXPECT_NEAR(d.rotation.min, 2, 1e-9);
 }
 
+// 20 s at 30 Hz, turning 0.5 deg per frame; the estimate is moved rigidly and each frame is
+// rolled 0.3 deg one way or the other, alternately: the worst pair 0.6 deg, but no drift.
+// Windows of 1.01 s hold 31 frames inside the scan (net one frame's roll: 0.3 / 31 deg), and
+// near the ends fewer: the first window of an odd count is frames 0..16 (net 0.3 / 17 deg, the
+// sign of the even frames); inside, windows about even frames lean the other way.
+TEST(ComputeSmoothedRotationDrift, AveragesAlternatingJitterAway) {
+  Trajectory gt, est;
+  const Rigid3d motion = At(1, 2, 3, 0.7);
+  for (int k = 0; k <= 600; ++k) {
+    const Rigid3d truth = At(0.01 * k, 0, 0, k * 0.5 * M_PI / 180);
+    Rigid3d jittered = truth;
+    jittered.linear() = Eigen::AngleAxisd((k % 2 == 0 ? 0.3 : -0.3) * M_PI / 180, Eigen::Vector3d::UnitX()) *
+                        truth.linear();
+    gt.Add(k / 30.0, truth);
+    est.Add(k / 30.0, motion * jittered);
+  }
+  EvaluationOptions options;
+  options.drift_smoothing_seconds = 1.01;
+  EXPECT_NEAR(ComputeRotationDrift(est, gt, options).rotation.max, 0.6, 1e-9);
+  const RotationDrift smoothed = ComputeSmoothedRotationDrift(est, gt, options);
+  EXPECT_EQ(smoothed.poses, 601);
+  EXPECT_EQ(smoothed.smoothing_seconds, 1.01);
+  EXPECT_NEAR(smoothed.rotation.max, 0.3 / 17 + 0.3 / 31, 1e-5);
+}
+
+// The estimate turns 0.1 deg/s more than the truth for 20 s: drift the averaging keeps. The
+// first window holds frames 0..15 (mean 0.25 s: 0.025 deg), the last 585..600 (19.75 s).
+TEST(ComputeSmoothedRotationDrift, KeepsSlowDrift) {
+  Trajectory gt, est;
+  for (int k = 0; k <= 600; ++k) {
+    const double t = k / 30.0;
+    gt.Add(t, At(0.01 * k, 0, 0, k * 0.5 * M_PI / 180));
+    est.Add(t, At(0.01 * k, 0, 0, (k * 0.5 + 0.1 * t) * M_PI / 180));
+  }
+  EvaluationOptions options;
+  options.drift_smoothing_seconds = 1.01;
+  EXPECT_NEAR(ComputeRotationDrift(est, gt, options).rotation.max, 2.0, 1e-9);
+  EXPECT_NEAR(ComputeSmoothedRotationDrift(est, gt, options).rotation.max, 1.95, 1e-6);
+  // 0 turns it off in Evaluate.
+  options.drift_smoothing_seconds = 0;
+  const EvaluationResult r = Evaluate(est, gt, options);
+  EXPECT_EQ(r.drift_smoothed.rotation.count, 0);
+  EXPECT_GT(r.drift.rotation.count, 0);
+}
+
 }  // namespace
 }  // namespace f2c

@@ -446,18 +446,20 @@ std::string BuildReport(const ReportInput& in) {
     std::string stats =
         "<table><tr><th>estimate</th><th>poses</th><th>ATE RMSE (m)</th><th>ATE median (m)</th><th>ATE max (m)</th>"
         "<th>RPE/frame (m)</th><th>RPE/frame (deg)</th><th>RPE/s (m)</th><th>RPE/s (deg)</th>"
-        "<th>rotation drift RMS (deg)</th></tr>\n";
+        "<th>rotation drift RMS (deg)</th><th>rotation drift worst (deg)</th>"
+        "<th>worst over 1 s means (deg)</th></tr>\n";
     for (const Aligned& a : aligned) {
       try {
         const EvaluationResult r = Evaluate(a.estimate->trajectory, gt, eval_options);
         stats += fmt::format(
             "<tr><td>{}</td><td>{}</td><td>{:.4f}</td><td>{:.4f}</td><td>{:.4f}</td><td>{:.4f}</td><td>{:.3f}</td>"
-            "<td>{:.4f}</td><td>{:.3f}</td><td>{:.3f}</td></tr>\n",
+            "<td>{:.4f}</td><td>{:.3f}</td><td>{:.3f}</td><td>{:.2f}</td><td>{:.2f}</td></tr>\n",
             EscapeXml(a.estimate->name), r.ate.translation.count, r.ate.translation.rmse, r.ate.translation.median,
             r.ate.translation.max, r.rpe_per_frame.translation.rmse, r.rpe_per_frame.rotation.rmse,
-            r.rpe_per_second.translation.rmse, r.rpe_per_second.rotation.rmse, r.drift.rotation.rmse);
+            r.rpe_per_second.translation.rmse, r.rpe_per_second.rotation.rmse, r.drift.rotation.rmse,
+            r.drift.rotation.max, r.drift_smoothed.rotation.max);
       } catch (const std::exception& e) {
-        stats += fmt::format("<tr><td>{}</td><td colspan=\"9\">{}</td></tr>\n", EscapeXml(a.estimate->name), EscapeXml(e.what()));
+        stats += fmt::format("<tr><td>{}</td><td colspan=\"11\">{}</td></tr>\n", EscapeXml(a.estimate->name), EscapeXml(e.what()));
       }
     }
     html += Section("Errors", stats + "</table>\n<div class=\"plots\">\n" + RenderSvg(translation) + RenderSvg(rotation) +
