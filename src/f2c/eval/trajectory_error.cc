@@ -156,22 +156,11 @@ RotationDrift DriftOverPairs(const std::vector<Eigen::Matrix3d>& all_d, const st
   return result;
 }
 
-}  // namespace
-
-RotationDrift ComputeRotationDrift(const Trajectory& estimate, const Trajectory& ground_truth,
-                                   const EvaluationOptions& options) {
-  std::vector<Eigen::Matrix3d> d;
-  std::vector<double> t;
-  RotationErrors(estimate, ground_truth, options, &d, &t);
-  return DriftOverPairs(d, t, options);
-}
-
-RotationDrift ComputeSmoothedRotationDrift(const Trajectory& estimate, const Trajectory& ground_truth,
-                                           const EvaluationOptions& options) {
+// Each D_i replaced by the chordal mean of the D_j within drift_smoothing_seconds / 2, then
+// the pairs as above.
+RotationDrift SmoothedDrift(const std::vector<Eigen::Matrix3d>& d, const std::vector<double>& t,
+                            const EvaluationOptions& options) {
   F2C_CHECK(options.drift_smoothing_seconds > 0, "a smoothing window");
-  std::vector<Eigen::Matrix3d> d;
-  std::vector<double> t;
-  RotationErrors(estimate, ground_truth, options, &d, &t);
   // Prefix sums of the D_j: each window's sum in O(1), its chordal mean the rotation
   // nearest to that sum (polar factor U V^T of its SVD, det +1).
   std::vector<Eigen::Matrix3d> prefix(d.size() + 1, Eigen::Matrix3d::Zero());
@@ -191,14 +180,33 @@ RotationDrift ComputeSmoothedRotationDrift(const Trajectory& estimate, const Tra
   return result;
 }
 
+}  // namespace
+
+RotationDrift ComputeRotationDrift(const Trajectory& estimate, const Trajectory& ground_truth,
+                                   const EvaluationOptions& options) {
+  std::vector<Eigen::Matrix3d> d;
+  std::vector<double> t;
+  RotationErrors(estimate, ground_truth, options, &d, &t);
+  return DriftOverPairs(d, t, options);
+}
+
+RotationDrift ComputeSmoothedRotationDrift(const Trajectory& estimate, const Trajectory& ground_truth,
+                                           const EvaluationOptions& options) {
+  std::vector<Eigen::Matrix3d> d;
+  std::vector<double> t;
+  RotationErrors(estimate, ground_truth, options, &d, &t);
+  return SmoothedDrift(d, t, options);
+}
+
 EvaluationResult Evaluate(const Trajectory& estimate, const Trajectory& ground_truth,
                           const EvaluationOptions& options) {
   options.Check();
   EvaluationResult result;
-  result.drift = ComputeRotationDrift(estimate, ground_truth, options);
-  if (options.drift_smoothing_seconds > 0) {
-    result.drift_smoothed = ComputeSmoothedRotationDrift(estimate, ground_truth, options);
-  }
+  std::vector<Eigen::Matrix3d> d;  // the rotation errors, shared by both drifts
+  std::vector<double> t;
+  RotationErrors(estimate, ground_truth, options, &d, &t);
+  result.drift = DriftOverPairs(d, t, options);
+  if (options.drift_smoothing_seconds > 0) result.drift_smoothed = SmoothedDrift(d, t, options);
   result.ate = ComputeAte(estimate, ground_truth, options);
   result.rpe_per_frame = ComputeRpe(estimate, ground_truth, options.rpe_delta_frames, false);
   result.rpe_per_second = ComputeRpe(estimate, ground_truth, options.rpe_delta_seconds, true);

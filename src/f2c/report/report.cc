@@ -446,8 +446,8 @@ std::string BuildReport(const ReportInput& in) {
     std::string stats =
         "<table><tr><th>estimate</th><th>poses</th><th>ATE RMSE (m)</th><th>ATE median (m)</th><th>ATE max (m)</th>"
         "<th>RPE/frame (m)</th><th>RPE/frame (deg)</th><th>RPE/s (m)</th><th>RPE/s (deg)</th>"
-        "<th>rotation drift RMS (deg)</th><th>rotation drift worst (deg)</th>"
-        "<th>worst over 1 s means (deg)</th></tr>\n";
+        "<th>rotation drift RMS (deg)</th><th>rotation drift worst (deg)</th>" +
+        fmt::format("<th>worst over {:g} s means (deg)</th></tr>\n", eval_options.drift_smoothing_seconds);
     for (const Aligned& a : aligned) {
       try {
         const EvaluationResult r = Evaluate(a.estimate->trajectory, gt, eval_options);
