@@ -3,8 +3,6 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
-#include <Eigen/Eigenvalues>
-#include <array>
 #include <cmath>
 #include <numeric>
 #include <nlohmann/json.hpp>
@@ -38,70 +36,6 @@ uint64_t SplitMix64(uint64_t x) {
   x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
   x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
   return x ^ (x >> 31);
-}
-
-// Covariance sampling (CorrespondenceSampling::kStable): `want` of `pool`, whose points q
-// (source features in the target frame) and residual directions are given.
-std::vector<int> PickStable(const std::vector<FeatureCorrespondence>& pool, const std::vector<Eigen::Vector3f>& q,
-                            int want) {
-  const int m = static_cast<int>(pool.size());
-  if (m <= want) {
-    std::vector<int> all(m);
-    std::iota(all.begin(), all.end(), 0);
-    return all;
-  }
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3f& x : q) centroid += x.cast<double>();
-  centroid /= m;
-  double radius2 = 0;
-  for (const Eigen::Vector3f& x : q) radius2 += (x.cast<double>() - centroid).squaredNorm();
-  const double radius = std::max(std::sqrt(radius2 / m), 0.05);
-  std::vector<Eigen::Matrix<double, 6, 1>> c(m);
-  Eigen::Matrix<double, 6, 6> cov = Eigen::Matrix<double, 6, 6>::Zero();
-  for (int i = 0; i < m; ++i) {
-    const FeatureCorrespondence& f = pool[i];
-    Eigen::Vector3d n = f.target_direction.cast<double>();
-    if (f.kind == CorrespondenceKind::kPointToLine) {
-      // The residual's direction: the offset from the line, across it.
-      const Eigen::Vector3d off = (q[i] - f.target_point).cast<double>();
-      Eigen::Vector3d across = off - off.dot(n) * n;
-      if (across.norm() < 1e-6) across = n.unitOrthogonal();
-      n = across.normalized();
-    }
-    const Eigen::Vector3d r = q[i].cast<double>() - centroid;
-    c[i] << r.cross(n) / radius, n;
-    c[i] *= std::sqrt(static_cast<double>(f.weight));
-    cov += c[i] * c[i].transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(cov);
-  std::array<std::vector<int>, 6> order;
-  std::array<size_t, 6> next{};
-  for (int k = 0; k < 6; ++k) {
-    const Eigen::Matrix<double, 6, 1> x = eig.eigenvectors().col(k);
-    order[k].resize(m);
-    std::iota(order[k].begin(), order[k].end(), 0);
-    std::stable_sort(order[k].begin(), order[k].end(),
-                     [&](int i, int j) { return std::abs(c[i].dot(x)) > std::abs(c[j].dot(x)); });
-  }
-  std::array<double, 6> held{};
-  std::vector<char> used(m, 0);
-  std::vector<int> picks;
-  picks.reserve(want);
-  while (static_cast<int>(picks.size()) < want) {
-    int k = 0;
-    for (int j = 1; j < 6; ++j) {
-      if (held[j] < held[k]) k = j;
-    }
-    while (next[k] < order[k].size() && used[order[k][next[k]]]) ++next[k];
-    const int i = order[k][next[k]];  // m > want: some candidate is left in every order
-    used[i] = 1;
-    picks.push_back(i);
-    for (int j = 0; j < 6; ++j) {
-      const double s = c[i].dot(eig.eigenvectors().col(j));
-      held[j] += s * s;
-    }
-  }
-  return picks;
 }
 
 }  // namespace
@@ -171,11 +105,8 @@ std::vector<FeatureCorrespondence> FindCorrespondences(const std::vector<FramePa
       int64_t step = static_cast<int64_t>(SplitMix64(h) % total) | 1;
       while (std::gcd(step, static_cast<int64_t>(total)) != 1) step += 2;
       const int limit = std::min<int>(total, static_cast<int>(std::ceil(want * options.attempts)));
-      const bool stable = options.sampling == CorrespondenceSampling::kStable;
-      std::vector<FeatureCorrespondence> pool;
-      std::vector<Eigen::Vector3f> pool_q;
       int got = 0;
-      for (int j = 0; j < limit && (stable || got < want); ++j) {
+      for (int j = 0; j < limit && got < want; ++j) {
         const int i = static_cast<int>((offset + j * step) % total);
         const int family = i < planes ? 0 : 1;
         const int local = i < planes ? i : i - planes;
@@ -204,18 +135,10 @@ std::vector<FeatureCorrespondence> FindCorrespondences(const std::vector<FramePa
             corr.target_direction = (corr.target_direction + dir).normalized();  // c > 0: no cancellation
           }
           corr.point = from.point(local);
-          if (stable) {
-            pool.push_back(corr);
-            pool_q.push_back(q);
-          } else {
-            out.push_back(corr);
-          }
+          out.push_back(corr);
           ++got;
           break;
         }
-      }
-      if (stable) {
-        for (int i : PickStable(pool, pool_q, want)) out.push_back(pool[i]);
       }
     }
   });

@@ -42,17 +42,6 @@ F2C_ENUM_NAMES(ThresholdSchedule, {{ThresholdSchedule::kAge, "age"}, {ThresholdS
 enum class PairNormal { kTarget, kMean };
 F2C_ENUM_NAMES(PairNormal, {{PairNormal::kTarget, "target"}, {PairNormal::kMean, "mean"}})
 
-// How each side of a pair picks its share among the features that found a match: in the
-// seeded permutation's order (the paper's random subsampling), or so that the picks constrain
-// every direction of the pair's relative motion (covariance sampling, Gelfand et al., 3DIM
-// 2003): all features tried (attempts x share) that match are candidates, each with its
-// residual's 6-vector of sensitivities to a turn about the candidates' centroid (at their RMS
-// radius) and a shift; the picks go, one at a time, to the eigen-direction of the candidates'
-// covariance that the picks so far constrain least, taking its most sensitive candidate left.
-enum class CorrespondenceSampling { kUniform, kStable };
-F2C_ENUM_NAMES(CorrespondenceSampling,
-               {{CorrespondenceSampling::kUniform, "uniform"}, {CorrespondenceSampling::kStable, "stable"}})
-
 struct CorrespondenceOptions {
   double initial_max_distance = 0.5;  // metres
   double initial_max_angle_deg = 45;
@@ -64,7 +53,6 @@ struct CorrespondenceOptions {
   double polish_max_angle_deg = 10;
   ThresholdSchedule schedule = ThresholdSchedule::kAge;
   PairNormal pair_normal = PairNormal::kTarget;
-  CorrespondenceSampling sampling = CorrespondenceSampling::kUniform;
   int per_frame = 100;    // |C| = per_frame n per iteration
   int min_per_pair = 6;   // a pair's share is never below this (then |C| exceeds per_frame n)
   double attempts = 3.0;  // features tried per correspondence wanted
@@ -91,8 +79,6 @@ struct CorrespondenceOptions {
               "age: by iterations together (the paper); path: per pair by camera path (the authors' code)");
     F2C_FIELD(v, pair_normal, "--pair-normal", {},
               "normal of a plane correspondence: target (the paper) or mean (of both features', symmetric)");
-    F2C_FIELD(v, sampling, "--correspondence-sampling", {},
-              "uniform: the seeded permutation's first matches; stable: picks that constrain every direction");
     F2C_FIELD(v, per_frame, "--correspondences-per-frame", AtLeast(1), "|C| = this times the frames, per iteration");
     F2C_FIELD(v, min_per_pair, "--min-correspondences-per-pair", AtLeast(1), "each pair's share at least this");
     F2C_FIELD(v, attempts, "", AtLeast(1), "features tried per correspondence wanted");
