@@ -157,9 +157,7 @@ FrameFeatures ExtractFrameFeatures(const cv::Mat& depth, const CameraIntrinsics&
   // Planes.
   for (int i = 0; i < n; ++i) {
     if (!IsFlat(g, i, o.proxies)) continue;
-    static const bool snap = std::getenv("F2C_SNAP_FIT") != nullptr;
-    const Vec3f p = snap ? Vec3f(g.points[i] - g.fit_offset[i] * g.normals[i]) : g.points[i];
-    by_type[0].push_back({i, p, g.normals[i], Flatness(g, i, o.proxies), label[i]});
+    by_type[0].push_back({i, g.points[i], g.normals[i], Flatness(g, i, o.proxies), label[i]});
   }
 
   // Contours: a jump between a cell and the next valid cell to its right or below (across

@@ -129,7 +129,6 @@ PointGrid BuildPointGrid(const cv::Mat& depth, const CameraIntrinsics& k, const 
   g.normals.assign(n, Eigen::Vector3f::Zero());
   g.curvature.assign(n, 0.0f);
   g.residual.assign(n, 0.0f);
-  g.fit_offset.assign(n, 0.0f);
   for (int y = 0; y < g.height; ++y) {
     for (int x = 0; x < g.width; ++x) {
       const int u = g.PixelU(x), v = g.PixelV(y);
@@ -181,7 +180,6 @@ PointGrid BuildPointGrid(const cv::Mat& depth, const CameraIntrinsics& k, const 
       g.normals[i] = normal.cast<float>();
       g.curvature[i] = static_cast<float>(curvature);
       g.residual[i] = static_cast<float>(std::sqrt(curvature * cov.trace()));
-      g.fit_offset[i] = static_cast<float>(-normal.dot(mean));  // the point is at -mean from the fit's centroid
     }
   }
   return g;

@@ -55,7 +55,6 @@ struct PointGrid {
   std::vector<Eigen::Vector3f> normals;
   std::vector<float> curvature;
   std::vector<float> residual;  // sqrt(lambda_min): RMS distance of the neighbours to the fit (m)
-  std::vector<float> fit_offset;  // the point's signed distance from its fit's plane, along the normal (m)
 
   int Index(int x, int y) const { return y * width + x; }
   bool Valid(int i) const { return points[i].z() > 0; }

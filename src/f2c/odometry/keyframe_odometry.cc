@@ -10,9 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "f2c/odometry/depth_alignment.h"
 #include "f2c/odometry/odometry.h"
-#include "f2c/odometry/photometric.h"
 #include "f2c/odometry/odometry_internal.h"
 #include "f2c/odometry/pair_cache.h"
 #include "f2c/util/error.h"
@@ -70,7 +68,6 @@ class KeyframeTracker {
     const Rigid3d keyframe_from_guess = poses_[key_.frame].inverse() * poses_[k - 1] * motion;
 
     pair = Track(frame, keyframe_from_guess);
-    if (pair.method == AlignmentMethod::kTrack) RefineWeakTrack(frame, &pair);
     std::optional<SiftFeatures> sift;
     bool aligned = pair.method == AlignmentMethod::kTrack && !internal::NeedsFallback(pair, options_);
     if (!aligned && static_cast<int>(key_.sift.size()) >= options_.min_inliers) {
@@ -174,25 +171,6 @@ class KeyframeTracker {
       pair.method = AlignmentMethod::kMotionPrior;
     }
     return pair;
-  }
-
-  // PROTOTYPE: a tracked pair with few inliers refined by intensity along the directions the
-  // keyframe's depth leaves weak (a mottled wall's turn about its normal).
-  void RefineWeakTrack(const Decoded& frame, PairAlignment* pair) {
-    static const int max_inliers = std::getenv("F2C_PHOTO_TRACK") ? std::atoi(std::getenv("F2C_PHOTO_TRACK")) : 0;
-    const IcpOptions& o = options_.icp;
-    if (pair->inliers >= max_inliers || !o.photometric || key_.gray.empty() || frame.gray.empty()) return;
-    Timer timer;
-    const ViewConstraints view = AnalyseViewConstraints(key_.depth, key_.gray, k_, o.degeneracy_stride, o.min_gradient);
-    const Eigen::Matrix<double, 6, Eigen::Dynamic> weak = PhotometricDirections(view, o.prior_information);
-    if (weak.cols() > 0) {
-      Rigid3d refined = pair->prev_from_curr;
-      if (AlignPhotometric(key_.gray, key_.depth, frame.gray, k_, weak, view.depth.mean_depth, o.dense, &refined).ok) {
-        pair->prev_from_curr = FusePhotometric(refined, pair->prev_from_curr, view, weak, o.prior_information);
-        internal::ScoreOverlap(key_.depth, frame.depth, k_, options_, clock_, pair);
-      }
-    }
-    clock_->icp += timer.Seconds();
   }
 
   void StartKeyframe(const Decoded& frame, SiftFeatures sift) {
