@@ -3,7 +3,6 @@
 // the keyframe depends on every alignment before it.
 
 #include <spdlog/spdlog.h>
-#include <Eigen/Dense>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
@@ -167,24 +166,6 @@ class KeyframeTracker {
     if (pair.inliers >= options_.keyframes.min_inliers) {
       pair.method = AlignmentMethod::kTrack;
       pair.prev_from_curr = ransac.b_from_a;
-      {  // PROBE: the fit's predicted rotation sigma from its inliers' geometry and depth noise
-        Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
-        for (int i : ransac.inliers) {
-          const Eigen::Vector3d q = ransac.b_from_a * points.frame[i];
-          const double z = points.keyframe[i].z();
-          const double sz = 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4), sl = z / 525.0;
-          const Eigen::Vector3d ray = points.keyframe[i].normalized();
-          const Eigen::Matrix3d cov = 2 * (sl * sl * Eigen::Matrix3d::Identity() + (sz * sz - sl * sl) * ray * ray.transpose());
-          Eigen::Matrix<double, 3, 6> J;
-          J.leftCols<3>() << 0, q.z(), -q.y(), -q.z(), 0, q.x(), q.y(), -q.x(), 0;
-          J.rightCols<3>().setIdentity();
-          H += J.transpose() * cov.inverse() * J;
-        }
-        const Eigen::Matrix<double, 6, 6> C = H.inverse();
-        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> e(C.topLeftCorner<3, 3>());
-        fprintf(stderr, "PAIRSIG %d %d %d %.5f\n", frame.frame, key_.frame, pair.inliers,
-                std::sqrt(std::max(0.0, e.eigenvalues()(2))) * 180 / M_PI);
-      }
       internal::ScoreOverlap(key_.depth, frame.depth, k_, options_, clock_, &pair);
     } else {
       pair.method = AlignmentMethod::kMotionPrior;
