@@ -103,34 +103,39 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
   return m;
 }
 
+// The ray-aware normal equations at t: with each residual R a + t - b under the left
+// perturbation b ~ exp(w, v) t a = R_w (R a + t) + v, d(residual) = -[t a]_x w + v, weighted
+// by (C_b + R C_a R^T)^-1 and, if `robust`, Cauchy weights at anisotropic_scale of that
+// Mahalanobis distance.
+void RayAwareNormalEquations(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                             const std::vector<int>& indices, const Rigid3d& t, const RansacOptions& o, bool robust,
+                             Eigen::Matrix<double, 6, 6>* h, Eigen::Matrix<double, 6, 1>* g) {
+  h->setZero();
+  g->setZero();
+  const double c2 = o.anisotropic_scale * o.anisotropic_scale;
+  const Eigen::Matrix3d r = t.linear();
+  for (const int k : indices) {
+    const Eigen::Vector3d moved = t * a[k];
+    const Eigen::Vector3d residual = moved - b[k];
+    const Eigen::Matrix3d info = (PointCovariance(b[k], o) + r * PointCovariance(a[k], o) * r.transpose()).inverse();
+    const double w = robust ? 1.0 / (1.0 + residual.dot(info * residual) / c2) : 1.0;
+    Eigen::Matrix<double, 3, 6> j;
+    j << -Skew(moved), Eigen::Matrix3d::Identity();
+    *h += w * j.transpose() * info * j;
+    *g += w * j.transpose() * info * residual;
+  }
+}
+
 }  // namespace
 
 Rigid3d RefineRigidAnisotropic(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
                                const std::vector<int>& indices, const Rigid3d& initial, const RansacOptions& o) {
   Rigid3d t = initial;
   if (indices.size() < 3) return t;
-  std::vector<Eigen::Matrix3d> cov_a(indices.size()), cov_b(indices.size());
-  for (size_t i = 0; i < indices.size(); ++i) {
-    cov_a[i] = PointCovariance(a[indices[i]], o);
-    cov_b[i] = PointCovariance(b[indices[i]], o);
-  }
-  const double c2 = o.anisotropic_scale * o.anisotropic_scale;
   for (int it = 0; it < o.anisotropic_iterations; ++it) {
-    // Left perturbation: b ~ exp(w, v) t a = R_w (R a + t) + v, so d(residual) = -[t a]_x w + v.
-    Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Zero();
-    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
-    const Eigen::Matrix3d r = t.linear();
-    for (size_t i = 0; i < indices.size(); ++i) {
-      const Eigen::Vector3d moved = t * a[indices[i]];
-      const Eigen::Vector3d residual = moved - b[indices[i]];
-      const Eigen::Matrix3d info = (cov_b[i] + r * cov_a[i] * r.transpose()).inverse();
-      const double m2 = residual.dot(info * residual);
-      const double w = 1.0 / (1.0 + m2 / c2);
-      Eigen::Matrix<double, 3, 6> j;
-      j << -Skew(moved), Eigen::Matrix3d::Identity();
-      h += w * j.transpose() * info * j;
-      g += w * j.transpose() * info * residual;
-    }
+    Eigen::Matrix<double, 6, 6> h;
+    Eigen::Matrix<double, 6, 1> g;
+    RayAwareNormalEquations(a, b, indices, t, o, /*robust=*/true, &h, &g);
     const Eigen::Matrix<double, 6, 1> step = -h.ldlt().solve(g);
     if (!step.allFinite()) break;
     const Eigen::Vector3d omega = step.head<3>();
@@ -142,6 +147,15 @@ Rigid3d RefineRigidAnisotropic(const std::vector<Eigen::Vector3d>& a, const std:
   }
   t.linear() = Eigen::Quaterniond(t.linear()).normalized().toRotationMatrix();
   return t;
+}
+
+Eigen::Matrix<double, 6, 6> RigidFitInformation(const std::vector<Eigen::Vector3d>& a,
+                                                const std::vector<Eigen::Vector3d>& b, const std::vector<int>& indices,
+                                                const Rigid3d& b_from_a, const RansacOptions& options) {
+  Eigen::Matrix<double, 6, 6> h;
+  Eigen::Matrix<double, 6, 1> g;
+  RayAwareNormalEquations(a, b, indices, b_from_a, options, /*robust=*/false, &h, &g);
+  return h;
 }
 
 RansacResult EstimateRigidRansac(const std::vector<Eigen::Vector3d>& a,
@@ -206,6 +220,7 @@ RansacResult EstimateRigidRansac(const std::vector<Eigen::Vector3d>& a,
     result.b_from_a = RefineRigidAnisotropic(a, b, result.inliers, result.b_from_a, options);
   }
   Inliers(a, b, result.b_from_a, options.inlier_threshold, &result.inlier_rmse);
+  result.information = RigidFitInformation(a, b, result.inliers, result.b_from_a, options);
   return result;
 }
 

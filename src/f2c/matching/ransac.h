@@ -74,7 +74,18 @@ struct RansacResult {
   std::vector<int> inliers;  // indices into the matches
   double inlier_rmse = 0;    // metres
   int iterations = 0;
+  // The fit's information (RigidFitInformation over the inliers); zero without inliers.
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
 };
+
+// How precisely the matches fix b_from_a: the Fisher information J^T W J of the ray-aware
+// fit under RansacOptions' depth noise model (W = (C_b + R C_a R^T)^-1 per match, no robust
+// weights), at b_from_a, for a left perturbation b_from_a -> exp(w, v) b_from_a in b's
+// coordinates, ordered (w radians, v metres). Its inverse is the fit's covariance under that
+// model (checked by sampling, ransac_test.cc).
+Eigen::Matrix<double, 6, 6> RigidFitInformation(const std::vector<Eigen::Vector3d>& a,
+                                                const std::vector<Eigen::Vector3d>& b, const std::vector<int>& indices,
+                                                const Rigid3d& b_from_a, const RansacOptions& options);
 
 // Finds b_from_a maximising |{i : |b_from_a * a[i] - b[i]| < threshold}|. `seed` fixes the
 // random samples, so the same input gives the same answer. Needs >= 3 matches; with fewer,

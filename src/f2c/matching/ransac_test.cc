@@ -135,5 +135,48 @@ TEST(RefineRigidAnisotropic, UnderRayNoiseBeatsTheIsotropicFit) {
   EXPECT_LT(aware, 0.5 * isotropic) << "RMS " << std::sqrt(aware / 20) << " m against " << std::sqrt(isotropic / 20);
 }
 
+// The fit's information is its inverse covariance: over repeated draws of the same scene's
+// ray noise, the ray-aware fit's error d (a left perturbation of the truth) has
+// E[d^T H d] = 6 (chi-square with six degrees of freedom) and each direction's variance is
+// H^-1's.
+TEST(RigidFitInformation, IsTheRayAwareFitsInverseCovariance) {
+  RansacOptions options;
+  options.anisotropic_iterations = 5;
+  options.bearing_sigma = 0.0002;  // MakeRayNoiseProblem's noise across the rays
+  const RayNoiseProblem exact = MakeRayNoiseProblem(40, false, 3);
+  std::vector<int> all(40);
+  for (int i = 0; i < 40; ++i) all[i] = i;
+  const Eigen::Matrix<double, 6, 6> h = RigidFitInformation(exact.a, exact.b, all, exact.b_from_a, options);
+  const Eigen::Matrix<double, 6, 6> covariance = h.inverse();
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  auto observe = [&](const Eigen::Vector3d& q) {  // MakeRayNoiseProblem's noise
+    const double sigma_z = 0.0012 + 0.0019 * q.z() * q.z();
+    const Eigen::Vector3d ray = q.normalized();
+    Eigen::Vector3d across(unit(rng), unit(rng), unit(rng));
+    across -= across.dot(ray) * ray;
+    return Eigen::Vector3d(q * (1 + sigma_z * unit(rng) / q.z()) + 0.0002 * q.norm() * across);
+  };
+  const int trials = 2000;
+  double chi2 = 0;
+  Eigen::Matrix<double, 6, 6> scatter = Eigen::Matrix<double, 6, 6>::Zero();
+  for (int trial = 0; trial < trials; ++trial) {
+    RayNoiseProblem p = exact;
+    for (int i = 0; i < 40; ++i) {
+      p.a[i] = observe(exact.a[i]);
+      p.b[i] = observe(exact.b[i]);
+    }
+    const Rigid3d fit = RefineRigidAnisotropic(p.a, p.b, all, FitRigid(p.a, p.b, all), options);
+    const Rigid3d error = fit * exact.b_from_a.inverse();  // exp(w, v)
+    Eigen::Matrix<double, 6, 1> d;
+    d.head<3>() = Eigen::AngleAxisd(error.linear()).angle() * Eigen::AngleAxisd(error.linear()).axis();
+    d.tail<3>() = error.translation();
+    chi2 += d.dot(h * d) / trials;
+    scatter += d * d.transpose() / trials;
+  }
+  EXPECT_NEAR(chi2, 6.0, 0.5);
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(scatter(i, i) / covariance(i, i), 1.0, 0.15) << "direction " << i;
+}
+
 }  // namespace
 }  // namespace f2c

@@ -166,6 +166,7 @@ class KeyframeTracker {
     if (pair.inliers >= options_.keyframes.min_inliers) {
       pair.method = AlignmentMethod::kTrack;
       pair.prev_from_curr = ransac.b_from_a;
+      pair.information = ransac.information;
       internal::ScoreOverlap(key_.depth, frame.depth, k_, options_, clock_, &pair);
     } else {
       pair.method = AlignmentMethod::kMotionPrior;

@@ -82,6 +82,7 @@ PairAlignment AlignSift(const SiftFeatures& prev, const SiftFeatures& curr,
   if (pair.inliers >= options.min_inliers) {
     pair.method = AlignmentMethod::kSift;
     pair.prev_from_curr = ransac.b_from_a;
+    pair.information = ransac.information;
   } else {
     pair.method = AlignmentMethod::kMotionPrior;
   }
@@ -348,7 +349,7 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
 nlohmann::json ToJson(const PairAlignment& p) {
   std::vector<double> m(16);
   for (int i = 0; i < 16; ++i) m[i] = p.prev_from_curr.matrix()(i / 4, i % 4);
-  return {{"frame", p.frame},
+  nlohmann::json j = {{"frame", p.frame},
           {"reference", p.Reference()},
           {"keyframe", p.keyframe},
           {"method", MethodName(p.method)},
@@ -361,6 +362,14 @@ nlohmann::json ToJson(const PairAlignment& p) {
           {"fitness", p.fitness},
           {"degenerate", p.degenerate},
           {"overlap_rmse", p.overlap_rmse}};
+  if ((p.method == AlignmentMethod::kSift || p.method == AlignmentMethod::kTrack) && !p.information.isZero()) {
+    std::vector<double> upper;  // row by row, the 21 entries on and above the diagonal
+    for (int r = 0; r < 6; ++r) {
+      for (int c = r; c < 6; ++c) upper.push_back(p.information(r, c));
+    }
+    j["information"] = upper;
+  }
+  return j;
 }
 
 namespace {
@@ -418,6 +427,17 @@ PairAlignment PairAlignmentFromJson(const nlohmann::json& j) {
   p.overlap_rmse = j.at("overlap_rmse").get<double>();
   if (p.keypoints_prev < 0 || p.keypoints_curr < 0 || p.matches < 0 || p.inliers < 0 || p.inliers > p.matches) {
     throw std::invalid_argument("negative or inconsistent counts");
+  }
+  if (j.contains("information")) {
+    const auto upper = j.at("information").get<std::vector<double>>();
+    if (upper.size() != 21) throw std::invalid_argument("information needs 21 numbers");
+    int i = 0;
+    for (int r = 0; r < 6; ++r) {
+      for (int c = r; c < 6; ++c) p.information(r, c) = p.information(c, r) = upper[i++];
+    }
+    if (!p.information.allFinite() || (p.information.diagonal().array() < 0).any()) {
+      throw std::invalid_argument("information is not finite or has a negative diagonal");
+    }
   }
   if (!(p.fitness >= 0 && p.fitness <= 1)) throw std::invalid_argument("fitness outside [0, 1]");
   if (!(std::isfinite(p.inlier_rmse) && p.inlier_rmse >= 0) || !(std::isfinite(p.overlap_rmse) && p.overlap_rmse >= 0)) {

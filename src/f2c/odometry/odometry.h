@@ -139,6 +139,12 @@ struct PairAlignment {
   double fitness = 0;  // fraction of frame k's depth samples within fitness_threshold of the reference's
   double overlap_rmse = 0;  // metres, of those samples
   int degenerate = 0;  // ICP: directions of motion the reference's geometry left to the previous motion
+  // SIFT and tracked pairs: how precisely the RANSAC inliers fix prev_from_curr under the
+  // depth noise model (RigidFitInformation, matching/ransac.h): a left perturbation of
+  // prev_from_curr in the reference's coordinates, (w radians, v metres). Zero where not
+  // measured (ICP, motion prior, old caches). E_L whitens its constraints by it
+  // (refine/local_alignment.h).
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
 
   int Reference() const { return reference >= 0 ? reference : frame - 1; }
 };

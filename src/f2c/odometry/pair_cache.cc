@@ -13,8 +13,9 @@ namespace f2c {
 namespace {
 
 // Bumped whenever a pair's answer changes for the same options (3: the photometric step also
-// refines the directions the image measures better than the depth).
-constexpr int kCacheVersion = 3;
+// refines the directions the image measures better than the depth; 4: SIFT and tracked pairs
+// carry their information).
+constexpr int kCacheVersion = 4;
 
 }  // namespace
 

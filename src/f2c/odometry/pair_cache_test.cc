@@ -51,6 +51,28 @@ TEST(PairAlignmentJson, RoundTripsEveryField) {
   EXPECT_EQ(PairAlignmentFromJson(old).Reference(), 4);
 }
 
+// A SIFT or tracked pair's information travels as its 21 upper-triangle entries; other
+// methods carry none, and entries without it (older caches) read back as unmeasured.
+TEST(PairAlignmentJson, InformationOfFittedPairsRoundTrips) {
+  PairAlignment a = SomePair();
+  a.method = AlignmentMethod::kTrack;
+  for (int r = 0; r < 6; ++r) {
+    for (int c = 0; c < 6; ++c) a.information(r, c) = r == c ? 1e6 * (r + 1) : 10.0 * (r + c);
+  }
+  const nlohmann::json j = ToJson(a);
+  ASSERT_EQ(j.at("information").size(), 21u);
+  EXPECT_EQ(j.at("information")[1].get<double>(), 10.0);  // row 0, column 1
+  EXPECT_EQ(PairAlignmentFromJson(j).information, a.information);
+  a.method = AlignmentMethod::kIcp;
+  EXPECT_FALSE(ToJson(a).contains("information"));
+  EXPECT_TRUE(PairAlignmentFromJson(ToJson(a)).information.isZero());
+  nlohmann::json short_list = j, negative = j;
+  short_list["information"].erase(0);
+  negative["information"][0] = -1.0;
+  EXPECT_EQ(Refusal(short_list), "information needs 21 numbers");
+  EXPECT_EQ(Refusal(negative), "information is not finite or has a negative diagonal");
+}
+
 TEST(PairAlignmentJson, DamagedEntriesAreRefusedWithTheReason) {
   auto with = [](const char* key, const nlohmann::json& value) {
     nlohmann::json j = ToJson(SomePair());

@@ -42,6 +42,12 @@ struct RelativePoseConstraint {
   // The fewest RANSAC inliers of a SIFT or tracked pair on that path (ICP pairs count as
   // dense); kNoInlierCount where there is none.
   int32_t weakest_inliers = kNoInlierCount;
+  // Where the odometry measured every pair on the path (refine/local_alignment.h): M of
+  // RelativePoseCost (optim/cost_functions.h), a square root of the error's information
+  // scaled to be dimensionless (a typical pair's translation rows near the identity), which
+  // replaces the lever arm; `weight` still multiplies it. Zero: the scalar form.
+  Eigen::Matrix<double, 6, 6> sqrt_information = Eigen::Matrix<double, 6, 6>::Zero();
+  bool whitened() const { return !sqrt_information.isZero(); }
 };
 
 // E_V (beyond the paper): frames a, b, c consecutive in time, whose motion should be steady.

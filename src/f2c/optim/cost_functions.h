@@ -86,17 +86,21 @@ struct PointToLineCost {
 
 // The misalignment of two rigid transforms, E_t of the paper's E_L: with the measured
 // a_from_b = (q_m, t_m) and the estimate a_from_b = T_a^-1 T_b = (q_a^-1 q_b, q_a^-1 (t_b - t_a)),
-//   r[0..2] = s_t (t_est - t_m)                      metres
-//   r[3..5] = s_r 2 vec(q_m^-1 q_est)                radians for small errors (|.| = 2 sin(angle/2))
-// s_t, s_r are square roots of the weights (s_r converts radians to the units the energy
-// compares them in, metres at a lever arm of s_r / s_t).
+//   e[0..2] = t_est - t_m                           metres, in a's coordinates
+//   e[3..5] = 2 vec(q_m^-1 q_est)                   radians for small errors (|.| = 2 sin(angle/2)),
+//                                                   in b's coordinates
+//   r = M e
+// M is a square root of the constraint's information (M^T M), upper triangular where it
+// comes from the odometry's fit (refine/local_alignment.h); the scalar form
+// M = diag(s_t, s_t, s_t, s_r, s_r, s_r) takes square roots of the weights (s_r converts
+// radians to the units the energy compares them in, metres at a lever arm of s_r / s_t).
 struct RelativePoseCost {
+  using Matrix6d = Eigen::Matrix<double, 6, 6>;
   RelativePoseCost(const Eigen::Quaterniond& measured_rotation_a_from_b, const Eigen::Vector3d& measured_translation_a_from_b,
-                   double sqrt_weight_translation, double sqrt_weight_rotation)
+                   const Matrix6d& sqrt_information)
       : rotation_inverse_(measured_rotation_a_from_b.conjugate()),
         translation_(measured_translation_a_from_b),
-        s_t_(sqrt_weight_translation),
-        s_r_(sqrt_weight_rotation) {}
+        sqrt_information_(sqrt_information) {}
 
   template <typename T>
   bool operator()(const T* rotation_a, const T* translation_a, const T* rotation_b, const T* translation_b,
@@ -108,24 +112,33 @@ struct RelativePoseCost {
     const Eigen::Quaternion<T> q_a_inverse = q_a.conjugate();
     const Eigen::Matrix<T, 3, 1> t_est = q_a_inverse * (t_b - t_a);
     const Eigen::Quaternion<T> delta = rotation_inverse_.cast<T>() * (q_a_inverse * q_b);
-    for (int i = 0; i < 3; ++i) {
-      residual[i] = T(s_t_) * (t_est[i] - T(translation_[i]));
-      residual[3 + i] = T(2.0 * s_r_) * delta.vec()[i];
-    }
+    Eigen::Matrix<T, 6, 1> e;
+    e.template head<3>() = t_est - translation_.cast<T>();
+    e.template tail<3>() = T(2.0) * delta.vec();
+    Eigen::Map<Eigen::Matrix<T, 6, 1>> r(residual);
+    r = sqrt_information_.cast<T>() * e;
     return true;
   }
 
   static ceres::CostFunction* Create(const Eigen::Quaterniond& measured_rotation_a_from_b,
                                      const Eigen::Vector3d& measured_translation_a_from_b,
+                                     const Matrix6d& sqrt_information) {
+    return new ceres::AutoDiffCostFunction<RelativePoseCost, 6, 4, 3, 4, 3>(
+        new RelativePoseCost(measured_rotation_a_from_b, measured_translation_a_from_b, sqrt_information));
+  }
+  static ceres::CostFunction* Create(const Eigen::Quaterniond& measured_rotation_a_from_b,
+                                     const Eigen::Vector3d& measured_translation_a_from_b,
                                      double sqrt_weight_translation, double sqrt_weight_rotation) {
-    return new ceres::AutoDiffCostFunction<RelativePoseCost, 6, 4, 3, 4, 3>(new RelativePoseCost(
-        measured_rotation_a_from_b, measured_translation_a_from_b, sqrt_weight_translation, sqrt_weight_rotation));
+    Matrix6d m = Matrix6d::Zero();
+    m.diagonal() << sqrt_weight_translation, sqrt_weight_translation, sqrt_weight_translation, sqrt_weight_rotation,
+        sqrt_weight_rotation, sqrt_weight_rotation;
+    return Create(measured_rotation_a_from_b, measured_translation_a_from_b, m);
   }
 
  private:
   Eigen::Quaterniond rotation_inverse_;
   Eigen::Vector3d translation_;
-  double s_t_, s_r_;
+  Matrix6d sqrt_information_;
 };
 
 // E_V, steady motion (beyond the paper): three poses a, b, c consecutive in time should move

@@ -112,6 +112,28 @@ TEST_F(CostFunctions, RelativePoseHandComputed) {
   EXPECT_NEAR(r[5], 3.0 * 2.0 * std::sin(0.05), 1e-12);
 }
 
+// With a full square root of the information, r = M e: the errors of the test above mixed
+// by M's rows, and the Jacobians still those of the residual.
+TEST_F(CostFunctions, RelativePoseWhitenedByAFullMatrix) {
+  a_ = Pose();
+  b_ = Pose();
+  b_.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()));
+  b_.translation = Eigen::Vector3d(1, 0, 0);
+  Eigen::Matrix<double, 6, 6> m = Eigen::Matrix<double, 6, 6>::Zero();
+  m(0, 0) = 2, m(0, 5) = 0.5, m(1, 1) = 1, m(5, 5) = 4, m(2, 0) = -1;
+  std::unique_ptr<ceres::CostFunction> cost(
+      RelativePoseCost::Create(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.9, 0, 0), m));
+  const double turn = 2.0 * std::sin(0.05);  // e[5]; e[0] = 0.1 m
+  const std::vector<double> r = Residuals(*cost, Blocks());
+  EXPECT_NEAR(r[0], 2 * 0.1 + 0.5 * turn, 1e-12);
+  EXPECT_NEAR(r[1], 0.0, 1e-12);
+  EXPECT_NEAR(r[2], -0.1, 1e-12);
+  EXPECT_NEAR(r[5], 4 * turn, 1e-12);
+  b_.translation = Eigen::Vector3d(0.7, 0.2, -0.1);
+  b_.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()));
+  ExpectJacobiansMatch(*cost, Blocks(), Manifolds());
+}
+
 TEST_F(CostFunctions, PoseChangeVanishesAtThePreviousPoseAndMeasuresTheChange) {
   std::unique_ptr<ceres::CostFunction> cost(PoseChangeCost::Create(a_.rotation, a_.translation, 1.0, 2.0));
   std::vector<double*> blocks = {a_.rotation_data(), a_.translation_data()};

@@ -302,7 +302,8 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
     pp.AddPair(kTermC, new PairCost(std::move(list), options.loss, options.loss_scale, b.data()), b);
   }
 
-  // E_L: relative transforms of T0, w_L v_i / sum(v); rotations at the lever arm.
+  // E_L: relative transforms of T0, w_L v_i / sum(v); rotations at the lever arm, or each
+  // constraint whitened by its own information.
   double sum_l = 0;
   for (const RelativePoseConstraint& l : local) sum_l += l.weight;
   for (const RelativePoseConstraint& l : local) {
@@ -315,9 +316,11 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       scale = options.measured_local_loss_scale;
     }
     const auto [s, loss] = pp.Weigh(options.weight_local * l.weight / sum_l, scale, kTermL);
-    pp.Add(kTermL,
-           RelativePoseCost::Create(l.rotation_a_from_b, l.translation_a_from_b, s, s * options.rotation_lever_arm),
-           loss, blocks(l.frame_a, l.frame_b));
+    ceres::CostFunction* cost =
+        l.whitened()
+            ? RelativePoseCost::Create(l.rotation_a_from_b, l.translation_a_from_b, s * l.sqrt_information)
+            : RelativePoseCost::Create(l.rotation_a_from_b, l.translation_a_from_b, s, s * options.rotation_lever_arm);
+    pp.Add(kTermL, cost, loss, blocks(l.frame_a, l.frame_b));
   }
 
   // E_V: steady motion over consecutive frames, w_V / (number of triples) each; rotations

@@ -230,6 +230,26 @@ TEST(SolvePoses, TermWeightsAreTotalsSharedAmongResiduals) {
   EXPECT_NEAR(robust.cost_before.at("E_L"), 0.5 * 300 * 0.0025 * std::log(1 + 0.01 / 0.0025), 1e-9);
 }
 
+// Two whitened constraints on one pair of frames, each measuring what the other does not:
+// one the translation (its turn about z barely), the other the turn (its translation
+// barely). The solve takes each direction from the one that measured it, where one weight
+// per constraint would split the difference (1.1 m and 0.025 rad).
+TEST(SolvePoses, WhitenedLocalConstraintsTakeEachDirectionFromTheOneThatMeasuredIt) {
+  PoseVector poses(2);
+  poses[1].translation = Eigen::Vector3d(1.1, 0, 0);
+  poses[1].rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.025, Eigen::Vector3d::UnitZ()));
+  RelativePoseConstraint moves{0, 1, Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 0, 0), 1.0};
+  moves.sqrt_information.diagonal() << 10, 10, 10, 10, 10, 0.01;
+  RelativePoseConstraint turns{
+      0, 1, Eigen::Quaterniond(Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ())), Eigen::Vector3d(1.2, 0, 0), 1.0};
+  turns.sqrt_information.diagonal() << 0.01, 0.01, 0.01, 10, 10, 10;
+  SolverOptions options;
+  options.fix_first_pose = true;
+  EXPECT_TRUE(SolvePoses({{}, {moves, turns}, {}, {}, {}}, options, &poses).usable);
+  EXPECT_NEAR(poses[1].translation.x(), 1.0, 1e-3);
+  EXPECT_NEAR(Eigen::AngleAxisd(poses[1].rotation).angle(), 0.05, 1e-3);
+}
+
 // E_V against one wrong odometry pair, which E_L repeats in both of the frame's links (as T0's
 // consecutive differences do when one tracked pair is wrong): without E_V nothing disputes
 // it and the frame stays 3 degrees off; with E_V at E_L's total it comes most of the way

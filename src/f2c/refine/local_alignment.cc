@@ -1,5 +1,7 @@
 #include "f2c/refine/local_alignment.h"
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -7,6 +9,38 @@
 #include "f2c/util/error.h"
 
 namespace f2c {
+namespace {
+
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+// Moves a left perturbation (w, v) in b's coordinates into a's, for a_from_b = (R, t):
+// a_from_b exp(w, v) b_from_a = exp(R w, R v + t x R w).
+Matrix6d Adjoint(const Rigid3d& a_from_b) {
+  const Eigen::Matrix3d r = a_from_b.linear();
+  Matrix6d ad = Matrix6d::Zero();
+  ad.topLeftCorner<3, 3>() = r;
+  ad.bottomLeftCorner<3, 3>() = Skew(a_from_b.translation()) * r;
+  ad.bottomRightCorner<3, 3>() = r;
+  return ad;
+}
+
+}  // namespace
+
+Matrix6d LocalErrorCovariance(const Rigid3d& a_from_b, const Matrix6d& left_covariance_in_a) {
+  // RelativePoseCost's error of the estimate exp(w, v) a_from_b: the translation moves by
+  // w x t + v (a's coordinates), the rotation by R^T w (b's coordinates).
+  Matrix6d jacobian = Matrix6d::Zero();
+  jacobian.topLeftCorner<3, 3>() = -Skew(a_from_b.translation());
+  jacobian.topRightCorner<3, 3>() = Eigen::Matrix3d::Identity();
+  jacobian.bottomLeftCorner<3, 3>() = a_from_b.linear().transpose();
+  return jacobian * left_covariance_in_a * jacobian.transpose();
+}
 
 void LocalAlignmentOptions::Check() const {
   CheckFields(*this);
@@ -15,7 +49,21 @@ void LocalAlignmentOptions::Check() const {
   }
 }
 
+double FitnessRamp(const PairAlignment& pair, const LocalAlignmentOptions& o) {
+  return std::clamp((pair.fitness - o.fitness_low) / (o.fitness_high - o.fitness_low), o.min_ramp, 1.0);
+}
+
+bool Whitens(const PairAlignment& pair, const LocalAlignmentOptions& o) {
+  const bool fitted = pair.method == AlignmentMethod::kSift || pair.method == AlignmentMethod::kTrack;
+  if (!o.information || !fitted || pair.information.isZero()) return false;
+  const Eigen::LDLT<Matrix6d> ldlt(pair.information);
+  return ldlt.info() == Eigen::Success && (ldlt.vectorD().array() > 0).all();
+}
+
 double PairConfidence(const PairAlignment& pair, const LocalAlignmentOptions& o) {
+  // The fit's information replaces the inlier logistic; a poor depth overlap still lowers
+  // the trust.
+  if (Whitens(pair, o)) return FitnessRamp(pair, o);
   double c = 1.0;
   switch (pair.method) {
     case AlignmentMethod::kSift:
@@ -25,8 +73,7 @@ double PairConfidence(const PairAlignment& pair, const LocalAlignmentOptions& o)
     case AlignmentMethod::kIcp: c = pair.degenerate == 0 ? o.icp_measured_weight : o.icp_weight; break;
     case AlignmentMethod::kMotionPrior: return o.prior_weight;
   }
-  const double ramp = std::clamp((pair.fitness - o.fitness_low) / (o.fitness_high - o.fitness_low), o.min_ramp, 1.0);
-  return c * ramp;
+  return c * FitnessRamp(pair, o);
 }
 
 std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlignment>& pairs,
@@ -38,6 +85,10 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
   std::vector<int> inliers(n, kNoInlierCount);    // frame k's RANSAC inliers (SIFT, tracking)
   std::vector<int> reference(n, -1);
   std::vector<Rigid3d> world_from(n, Rigid3d::Identity());  // T0, chained along the references
+  // Frame k's pair's covariance (a left perturbation of reference_from_frame in the
+  // reference's coordinates), where its fit measured every direction.
+  std::vector<Matrix6d> covariance(n, Matrix6d::Zero());
+  std::vector<char> has_covariance(n, 0);
   for (int k = 1; k < n; ++k) {
     const PairAlignment& pair = pairs[k - 1];
     F2C_CHECK(pair.Reference() >= 0 && pair.Reference() < k, "a pair's reference precedes its frame");
@@ -46,36 +97,63 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
     measured[k] = pair.method != AlignmentMethod::kMotionPrior && !(pair.method == AlignmentMethod::kIcp && pair.degenerate > 0);
     reference[k] = pair.Reference();
     world_from[k] = world_from[reference[k]] * pair.prev_from_curr;
+    if (Whitens(pair, options)) {
+      covariance[k] = pair.information.ldlt().solve(Matrix6d::Identity());
+      const double floor_rotation = options.floor_rotation_deg * M_PI / 180;
+      covariance[k].diagonal().head<3>().array() += floor_rotation * floor_rotation;
+      covariance[k].diagonal().tail<3>().array() += options.floor_translation * options.floor_translation;
+      has_covariance[k] = covariance[k].allFinite();
+    }
   }
   // Over the path between a and b in the tree of references: the weakest alignment's
   // confidence, whether every pair measured every direction, and the fewest inliers.
+  // With every pair's covariance known, also their sum, each moved into a's coordinates:
+  // a_from_b = (world_from_a)^-1 world_from_b, and a perturbation of pair k (reference r)
+  // perturbs it on the left by Adjoint(a_from_r) of itself.
   struct Path {
     double confidence = 1.0;
     bool measured = true;
     int weakest_inliers = kNoInlierCount;
+    bool has_covariance = true;
+    Matrix6d covariance = Matrix6d::Zero();
   };
   auto path = [&](int a, int b) {
     Path p;
+    const Rigid3d a_from_world = world_from[a].inverse();
     while (a != b) {
       int& later = a > b ? a : b;
       p.confidence = std::min(p.confidence, confidence[later]);
       p.measured = p.measured && measured[later];
       p.weakest_inliers = std::min(p.weakest_inliers, inliers[later]);
+      p.has_covariance = p.has_covariance && has_covariance[later];
+      if (p.has_covariance) {
+        const Matrix6d ad = Adjoint(a_from_world * world_from[reference[later]]);
+        p.covariance += ad * covariance[later] * ad.transpose();
+      }
       later = reference[later];
     }
     return p;
   };
   std::vector<RelativePoseConstraint> out;
+  std::vector<double> translation_sigmas;  // of the whitened constraints
   auto add = [&](int a, int b) {
     const Rigid3d a_from_b = world_from[a].inverse() * world_from[b];
     const Path p = path(a, b);
+    RelativePoseConstraint c;
     double weight = p.confidence;
+    if (p.has_covariance) {
+      const Matrix6d error_covariance = LocalErrorCovariance(a_from_b, p.covariance);
+      const Eigen::LLT<Matrix6d> llt(error_covariance.inverse());
+      if (llt.info() == Eigen::Success && llt.matrixU().toDenseMatrix().allFinite()) {
+        c.sqrt_information = llt.matrixU().toDenseMatrix();
+        translation_sigmas.push_back(std::sqrt(error_covariance.topLeftCorner<3, 3>().trace() / 3));
+      }
+    }
     if (options.distance_sigma > 0) {
       const double d = a_from_b.translation().norm();
       weight *= std::exp(-d * d / (2 * options.distance_sigma * options.distance_sigma));
     }
     if (weight <= 0) return;
-    RelativePoseConstraint c;
     c.frame_a = a;
     c.frame_b = b;
     c.rotation_a_from_b = Eigen::Quaterniond(a_from_b.linear()).normalized();
@@ -101,17 +179,28 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
         for (int p = 1; p <= options.max_power && j + (1 << p) < n; ++p) add(j, j + (1 << p));
       }
     }
-    return out;
-  }
-  for (int j = 0; j < n; ++j) {
-    // Each frame's own alignment (to its keyframe), unless a span below holds it already.
-    const int span = j - reference[j];
-    if (j > 0 && (span > max_span || (span & (span - 1)) != 0)) add(reference[j], j);
-    for (int p = 0; p <= options.max_power; ++p) {
-      const int b = j + (1 << p);
-      if (b >= n) break;
-      add(j, b);
+  } else {
+    for (int j = 0; j < n; ++j) {
+      // Each frame's own alignment (to its keyframe), unless a span below holds it already.
+      const int span = j - reference[j];
+      if (j > 0 && (span > max_span || (span & (span - 1)) != 0)) add(reference[j], j);
+      for (int p = 0; p <= options.max_power; ++p) {
+        const int b = j + (1 << p);
+        if (b >= n) break;
+        add(j, b);
+      }
     }
+  }
+  // Whitened constraints in the units of the scalar ones: a constraint whose translation is
+  // uncertain by the reference sigma weighs as a scalar constraint of the same weight.
+  if (!translation_sigmas.empty()) {
+    double sigma = options.reference_sigma;
+    if (sigma <= 0) {
+      auto middle = translation_sigmas.begin() + translation_sigmas.size() / 2;
+      std::nth_element(translation_sigmas.begin(), middle, translation_sigmas.end());
+      sigma = *middle;
+    }
+    for (RelativePoseConstraint& c : out) c.sqrt_information *= sigma;
   }
   return out;
 }

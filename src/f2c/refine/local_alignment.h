@@ -15,6 +15,20 @@
 // so an ICP fallback or a pair whose depth overlap is poor weighs less than a clean SIFT pair.
 // Optionally (the authors' code) longer spans weigh less: x exp(-d^2 / (2 distance_sigma^2)),
 // d the distance T0 puts between the two cameras.
+//
+// Whitened (beyond the paper; `information`): where every pair on the path is a SIFT or
+// tracked pair with its fit's information (PairAlignment::information), the constraint is
+// weighed by what those fits measured, direction by direction, instead of by one number and
+// the lever arm. A pair's covariance is its information's inverse plus a floor (below); the
+// path's is the sum of its pairs', each moved into frame a's coordinates by the adjoint of
+// T0's a_from_reference (pairs are independent measurements; the path's shared keyframe
+// cancels), and RelativePoseCost's error e = J eps of a left perturbation eps of a_from_b
+// (optim/cost_functions.h) has covariance J Sigma J^T; M is the upper Cholesky factor of its
+// inverse, times reference_sigma (by default the median translation sigma of the scan's
+// whitened constraints), so a typical pair weighs about as a scalar one. The confidence is
+// then the fitness ramp alone: the information says what the inlier count said, better. A
+// mottled wall's tracked pairs that fix its roll poorly give E_L little say over that roll
+// and full say over what they measured well.
 
 #include <nlohmann/json_fwd.hpp>
 #include <string>
@@ -46,6 +60,16 @@ struct LocalAlignmentOptions {
   double fitness_high = 0.8;
   double min_ramp = 0.05;
   double distance_sigma = 0;  // metres; 0: off
+  bool information = true;    // whiten constraints whose pairs all carry their information
+  double reference_sigma = 0;  // metres; 0: the median translation sigma of those constraints
+  // What the fit's noise model leaves out (a real sensor's depth distortion, colour-depth
+  // misregistration, rolling shutter) does not shrink with more inliers: each pair's
+  // covariance gains these standard deviations in every direction. Measured (BENCHMARKS.md,
+  // "Twenty-eighth stop"): without them the real sequences lost (fr1/xyz 0.0108 -> 0.0129 m,
+  // redkitchen 0.0262 -> 0.0294 m: their fits claim 0.03-0.04 deg); with them they are level
+  // and the simulated walks keep most of the gain.
+  double floor_rotation_deg = 0.05;
+  double floor_translation = 0.001;  // metres
   // Which pairs: "frames": j and j + 2^k over all frames (the paper), plus each frame and its
   // reference; "keyframes": each frame and its reference (the odometry's own measurements),
   // plus keyframes i and i + 2^k over the keyframes (k >= 1). Without keyframe odometry the
@@ -70,11 +94,29 @@ struct LocalAlignmentOptions {
               "keyframe, and keyframes i, i + 2^k)");
     F2C_FIELD(v, distance_sigma, "--local-distance-sigma", AtLeast(0),
               "E_L weight exp(-d^2/2s^2) by camera distance (m; 0: off)");
+    F2C_FIELD(v, information, "--local-information=on|off", {},
+              "E_L constraints over SIFT and tracked pairs whitened by their fits' information (off: one weight each)");
+    F2C_FIELD(v, reference_sigma, "--local-reference-sigma", AtLeast(0),
+              "a whitened constraint this uncertain (m) weighs as a scalar one (0: the scan's median)");
+    F2C_FIELD(v, floor_rotation_deg, "--local-floor-rotation", AtLeast(0),
+              "each whitened pair's rotation is uncertain by at least this (deg)");
+    F2C_FIELD(v, floor_translation, "--local-floor-translation", AtLeast(0),
+              "...and its translation by at least this (m)");
   }
   void Check() const;
 };
 
 double PairConfidence(const PairAlignment& pair, const LocalAlignmentOptions& options);
+// Whether E_L whitens this pair (`information` on, a SIFT or tracked pair whose information
+// is positive definite); its confidence is then the fitness ramp alone.
+bool Whitens(const PairAlignment& pair, const LocalAlignmentOptions& options);
+// The fitness ramp of PairConfidence alone.
+double FitnessRamp(const PairAlignment& pair, const LocalAlignmentOptions& options);
+
+// The covariance of RelativePoseCost's error (translation in a, rotation in b) when the
+// estimate is exp(w, v) a_from_b and (w, v) has covariance left_covariance_in_a.
+Eigen::Matrix<double, 6, 6> LocalErrorCovariance(const Rigid3d& a_from_b,
+                                                 const Eigen::Matrix<double, 6, 6>& left_covariance_in_a);
 
 // pairs[k-1] aligns frame k to its reference (odometry.h); one constraint per (j, j + 2^k)
 // inside the scan, and one per (reference, k) that is not among those.

@@ -3,6 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <memory>
+#include <random>
+
+#include "f2c/optim/cost_functions.h"
+#include "f2c/optim/pose.h"
 
 namespace f2c {
 namespace {
@@ -134,6 +139,127 @@ TEST(LocalConstraints, DistanceWeightingOfTheAuthors) {
   const std::vector<RelativePoseConstraint> c = LocalConstraints(pairs, o);
   ASSERT_EQ(c.size(), 1u);
   EXPECT_NEAR(c[0].weight, PairConfidence(pairs[0], o) * std::exp(-0.5), 1e-9);
+}
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+// exp(w, v) t: turned by w (a rotation vector), then moved by v.
+Rigid3d Perturbed(const Vector6d& d, const Rigid3d& t) {
+  Rigid3d e = Rigid3d::Identity();
+  if (d.head<3>().norm() > 0) e.linear() = Eigen::AngleAxisd(d.head<3>().norm(), d.head<3>().normalized()).toRotationMatrix();
+  e.translation() = d.tail<3>();
+  return e * t;
+}
+
+// RelativePoseCost's residual for the estimate a_from_b (frame a at the origin).
+Vector6d Residual(const Rigid3d& measured, const Rigid3d& estimate, const Matrix6d& m) {
+  std::unique_ptr<ceres::CostFunction> cost(
+      RelativePoseCost::Create(Eigen::Quaterniond(measured.linear()), measured.translation(), m));
+  Pose a, b = Pose::FromRigid(estimate);
+  const double* blocks[] = {a.rotation_data(), a.translation_data(), b.rotation_data(), b.translation_data()};
+  Vector6d r;
+  EXPECT_TRUE(cost->Evaluate(blocks, r.data(), nullptr));
+  return r;
+}
+
+// LocalErrorCovariance is J Sigma J^T with J the error's derivative: for a rank-one Sigma =
+// d d^T, the error of exp(d) a_from_b itself (to first order).
+TEST(LocalErrorCovariance, MapsALeftPerturbationToRelativePoseCostsError) {
+  Rigid3d a_from_b = Rigid3d::Identity();
+  a_from_b.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
+  a_from_b.translation() = Eigen::Vector3d(0.4, -0.3, 1.2);
+  Vector6d d;
+  d << 1e-5, -2e-5, 3e-5, 2e-5, 1e-5, -4e-5;
+  const Vector6d e = Residual(a_from_b, Perturbed(d, a_from_b), Matrix6d::Identity());
+  const Matrix6d predicted = LocalErrorCovariance(a_from_b, d * d.transpose());
+  EXPECT_LT((predicted - e * e.transpose()).norm(), 1e-4 * e.squaredNorm());  // second order: ~1e-5
+}
+
+// Whitened E_L is calibrated end to end: tracked pairs whose measurements err by draws from
+// their fits' covariances (the path through a shared keyframe, a direct pair, a keyframe's
+// own pair) give constraints whose residuals at the true poses are chi-square with six
+// degrees of freedom, |r|^2 averaging 6, once reference_sigma 1 and no floor leave M the
+// information's own square root.
+TEST(LocalConstraints, WhitenedResidualsAreUnitNormalAtTheTruth) {
+  // Frames 1 and 2 refer to keyframe 0, frame 3 to keyframe 2.
+  std::vector<Rigid3d> truth(4, Rigid3d::Identity());  // world_from_camera
+  for (int k = 1; k < 4; ++k) {
+    truth[k].linear() = Eigen::AngleAxisd(0.1 * k, Eigen::Vector3d(0.2, 1, 0.1 * k).normalized()).toRotationMatrix();
+    truth[k].translation() = Eigen::Vector3d(0.05 * k, -0.02 * k, 0.03 * k * k);
+  }
+  const int reference[] = {-1, 0, 0, 2};
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  std::vector<Matrix6d> root(4);  // each pair's covariance is root root^T
+  for (int k = 1; k < 4; ++k) {
+    Matrix6d r = Matrix6d::Zero();
+    for (int i = 0; i < 6; ++i) {
+      for (int j = 0; j <= i; ++j) r(i, j) = (i == j ? (i < 3 ? 1e-3 : 2e-3) * k : 3e-4 * unit(rng));
+    }
+    root[k] = r;
+  }
+  LocalAlignmentOptions o;
+  o.reference_sigma = 1;
+  o.floor_rotation_deg = 0;
+  o.floor_translation = 0;
+  const int draws = 2000;
+  std::map<std::pair<int, int>, double> chi2;
+  for (int draw = 0; draw < draws; ++draw) {
+    std::vector<PairAlignment> pairs;
+    for (int k = 1; k < 4; ++k) {
+      PairAlignment p = Pair(k, AlignmentMethod::kTrack, 100, 1.0, 0);
+      p.reference = reference[k];
+      p.keyframe = k == 2;
+      Vector6d noise;
+      for (int i = 0; i < 6; ++i) noise(i) = unit(rng);
+      p.prev_from_curr = Perturbed(root[k] * noise, truth[reference[k]].inverse() * truth[k]);
+      p.information = (root[k] * root[k].transpose()).inverse();
+      pairs.push_back(p);
+    }
+    for (const RelativePoseConstraint& c : LocalConstraints(pairs, o)) {
+      ASSERT_TRUE(c.whitened());
+      Rigid3d measured = Rigid3d::Identity();
+      measured.linear() = c.rotation_a_from_b.toRotationMatrix();
+      measured.translation() = c.translation_a_from_b;
+      const Rigid3d estimate = truth[c.frame_a].inverse() * truth[c.frame_b];
+      chi2[{c.frame_a, c.frame_b}] += Residual(measured, estimate, c.sqrt_information).squaredNorm() / draws;
+    }
+  }
+  // (0, 1) and (2, 3) direct, (1, 2) through keyframe 0, (0, 2) the keyframe's own pair.
+  ASSERT_EQ(chi2.size(), 4u);
+  for (const auto& [frames, mean] : chi2) EXPECT_NEAR(mean, 6.0, 0.4) << frames.first << " " << frames.second;
+}
+
+// Without the information (ICP, old caches) or with it turned off, a constraint keeps one
+// weight; a floor on a pair's covariance caps what E_L trusts a very precise fit with.
+TEST(LocalConstraints, WhitenedOnlyWhereEveryPairOnThePathHasItsInformation) {
+  std::vector<PairAlignment> pairs;
+  for (int k = 1; k <= 3; ++k) {
+    // Frame 1 turns about the optical axis and does not move, so E_L's error is the
+    // perturbation itself.
+    pairs.push_back(Pair(k, AlignmentMethod::kTrack, 100, 1.0, 0.1 * (k - 1)));
+    pairs.back().information = Matrix6d::Identity() * 1e8;  // 0.1 mm and 0.1 mrad
+  }
+  pairs[2] = Pair(3, AlignmentMethod::kIcp, 0, 1.0, 0.3);
+  LocalAlignmentOptions o;
+  o.reference_sigma = 1;
+  o.floor_rotation_deg = 0;
+  o.floor_translation = 0;
+  std::vector<RelativePoseConstraint> c = LocalConstraints(pairs, o);
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_TRUE(c[0].whitened());
+  EXPECT_TRUE(c[1].whitened());
+  EXPECT_FALSE(c[2].whitened());
+  EXPECT_NEAR(c[2].weight, PairConfidence(pairs[2], o), 1e-12);
+  // Its translation rows: 1 / 0.1 mm at a reference sigma of 1 m.
+  EXPECT_NEAR(c[0].sqrt_information(0, 0), 1e4, 1e-3);
+  o.floor_translation = 0.001;  // adds (1 mm)^2: sigma sqrt(0.1^2 + 1) mm
+  c = LocalConstraints(pairs, o);
+  EXPECT_NEAR(c[0].sqrt_information.col(0).norm(), 1.0 / std::sqrt(1e-8 + 1e-6), 1e-3);
+  o.information = false;
+  c = LocalConstraints(pairs, o);
+  for (const RelativePoseConstraint& r : c) EXPECT_FALSE(r.whitened());
 }
 
 }  // namespace
