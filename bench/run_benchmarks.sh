@@ -40,13 +40,14 @@ rows="$work/rows.tsv"  # kind, dataset label, variant, kept folder
 cp "$bin" "$work/fine2coarse.bin" && bin="$work/fine2coarse.bin"
 
 ablations=(
-  "the paper's algorithm only|--no-sift-loops --polish-iterations 0 --weight-velocity 0"
+  "the paper's algorithm only|--no-sift-loops --polish-iterations 0 --weight-velocity 0 --local-information off"
   "no SIFT loops|--no-sift-loops"
   "no steady motion (E_V)|--weight-velocity 0"
   "no polish iterations|--polish-iterations 0"
   "no fine-to-coarse windows|--no-fine-to-coarse"
   "no structural model (E_P, E_H, E_G)|--no-structure"
   "no keyframes (consecutive odometry)|--keyframes off"
+  "E_L one weight per link (no pair information)|--local-information off"
 )
 
 have_peer=0
