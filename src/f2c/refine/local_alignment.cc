@@ -5,19 +5,15 @@
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <optional>
 
+#include "f2c/optim/cost_functions.h"
 #include "f2c/util/error.h"
 
 namespace f2c {
 namespace {
 
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
-
-Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
 
 // Moves a left perturbation (w, v) in b's coordinates into a's, for a_from_b = (R, t):
 // a_from_b exp(w, v) b_from_a = exp(R w, R v + t x R w).
@@ -28,6 +24,20 @@ Matrix6d Adjoint(const Rigid3d& a_from_b) {
   ad.bottomLeftCorner<3, 3>() = Skew(a_from_b.translation()) * r;
   ad.bottomRightCorner<3, 3>() = r;
   return ad;
+}
+
+// The pair's covariance (its information's inverse plus the floor) where E_L whitens it.
+std::optional<Matrix6d> PairCovariance(const PairAlignment& pair, const LocalAlignmentOptions& o) {
+  const bool fitted = pair.method == AlignmentMethod::kSift || pair.method == AlignmentMethod::kTrack;
+  if (!o.information || !fitted || pair.information.isZero()) return std::nullopt;
+  const Eigen::LDLT<Matrix6d> ldlt(pair.information);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all()) return std::nullopt;
+  Matrix6d covariance = ldlt.solve(Matrix6d::Identity());
+  const double floor_rotation = o.floor_rotation_deg * M_PI / 180;
+  covariance.diagonal().head<3>().array() += floor_rotation * floor_rotation;
+  covariance.diagonal().tail<3>().array() += o.floor_translation * o.floor_translation;
+  if (!covariance.allFinite()) return std::nullopt;
+  return covariance;
 }
 
 }  // namespace
@@ -53,12 +63,7 @@ double FitnessRamp(const PairAlignment& pair, const LocalAlignmentOptions& o) {
   return std::clamp((pair.fitness - o.fitness_low) / (o.fitness_high - o.fitness_low), o.min_ramp, 1.0);
 }
 
-bool Whitens(const PairAlignment& pair, const LocalAlignmentOptions& o) {
-  const bool fitted = pair.method == AlignmentMethod::kSift || pair.method == AlignmentMethod::kTrack;
-  if (!o.information || !fitted || pair.information.isZero()) return false;
-  const Eigen::LDLT<Matrix6d> ldlt(pair.information);
-  return ldlt.info() == Eigen::Success && (ldlt.vectorD().array() > 0).all();
-}
+bool Whitens(const PairAlignment& pair, const LocalAlignmentOptions& o) { return PairCovariance(pair, o).has_value(); }
 
 double PairConfidence(const PairAlignment& pair, const LocalAlignmentOptions& o) {
   // The fit's information replaces the inlier logistic; a poor depth overlap still lowers
@@ -87,8 +92,7 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
   std::vector<Rigid3d> world_from(n, Rigid3d::Identity());  // T0, chained along the references
   // Frame k's pair's covariance (a left perturbation of reference_from_frame in the
   // reference's coordinates), where its fit measured every direction.
-  std::vector<Matrix6d> covariance(n, Matrix6d::Zero());
-  std::vector<char> has_covariance(n, 0);
+  std::vector<std::optional<Matrix6d>> covariance(n);
   for (int k = 1; k < n; ++k) {
     const PairAlignment& pair = pairs[k - 1];
     F2C_CHECK(pair.Reference() >= 0 && pair.Reference() < k, "a pair's reference precedes its frame");
@@ -97,13 +101,7 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
     measured[k] = pair.method != AlignmentMethod::kMotionPrior && !(pair.method == AlignmentMethod::kIcp && pair.degenerate > 0);
     reference[k] = pair.Reference();
     world_from[k] = world_from[reference[k]] * pair.prev_from_curr;
-    if (Whitens(pair, options)) {
-      covariance[k] = pair.information.ldlt().solve(Matrix6d::Identity());
-      const double floor_rotation = options.floor_rotation_deg * M_PI / 180;
-      covariance[k].diagonal().head<3>().array() += floor_rotation * floor_rotation;
-      covariance[k].diagonal().tail<3>().array() += options.floor_translation * options.floor_translation;
-      has_covariance[k] = covariance[k].allFinite();
-    }
+    covariance[k] = PairCovariance(pair, options);
   }
   // Over the path between a and b in the tree of references: the weakest alignment's
   // confidence, whether every pair measured every direction, and the fewest inliers.
@@ -125,10 +123,10 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
       p.confidence = std::min(p.confidence, confidence[later]);
       p.measured = p.measured && measured[later];
       p.weakest_inliers = std::min(p.weakest_inliers, inliers[later]);
-      p.has_covariance = p.has_covariance && has_covariance[later];
+      p.has_covariance = p.has_covariance && covariance[later].has_value();
       if (p.has_covariance) {
         const Matrix6d ad = Adjoint(a_from_world * world_from[reference[later]]);
-        p.covariance += ad * covariance[later] * ad.transpose();
+        p.covariance += ad * *covariance[later] * ad.transpose();
       }
       later = reference[later];
     }
