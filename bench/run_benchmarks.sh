@@ -48,6 +48,7 @@ ablations=(
   "no structural model (E_P, E_H, E_G)|--no-structure"
   "no keyframes (consecutive odometry)|--keyframes off"
   "E_L one weight per link (no pair information)|--local-information off"
+  "ICP fallbacks with one weight, E_V even|--local-icp-information off --velocity-unmeasured-weight 1"
 )
 
 have_peer=0

@@ -46,6 +46,10 @@ struct IcpOptions {
   // with it (BENCHMARKS.md, "Twelfth stop" and "Thirteenth stop").
   bool photometric = true;
   double min_gradient = 2.0;  // grey levels per pixel
+  // How far the motion prior's prediction is off per pair (metres; rotations at the mean
+  // depth): the scale of an ICP fallback's information (MeasuredInformation). Measured
+  // (BENCHMARKS.md, "Twenty-ninth stop"): 5 mm against 10 and 20 on the simulated walks.
+  double prior_sigma = 0.005;
   PhotometricOptions dense;
 
   template <class V>
@@ -65,6 +69,8 @@ struct IcpOptions {
     F2C_FIELD(v, degeneracy_stride, "", AtLeast(1), "pixels between the depth samples of the degeneracy check");
     F2C_FIELD(v, photometric, "--icp-photometric,!--no-icp-photometric", {},
               "where the depth leaves motions free, measure them by photometric alignment");
+    F2C_FIELD(v, prior_sigma, "--icp-prior-sigma", Positive(),
+              "the motion prior's error per pair (m; rotations at the mean depth), the scale of an ICP pair's information");
     F2C_FIELD(v, min_gradient, "--icp-min-gradient", Positive(),
               "grey-level gradient (per pixel) at which a sample's intensity constrains the motion");
     F2C_NESTED(v, dense);
@@ -137,6 +143,19 @@ Eigen::Matrix<double, 6, Eigen::Dynamic> PhotometricDirections(const ViewConstra
 Rigid3d FusePhotometric(const Rigid3d& refined, const Rigid3d& fused, const ViewConstraints& view,
                         const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions, double prior_information,
                         int* degenerate = nullptr);
+
+// How precisely an ICP fallback's fused answer is known (PairAlignment::information): the
+// information it was fused under, the depth's H plus the image's along `directions` (the
+// columns the photometric step refined; none where it did not run) plus the motion prior's
+// prior_information I, all in (w L, v) units and per sample (ConstrainToGeometry,
+// FusePhotometric). Its scale is set by the prior: prior_information stands for a motion
+// prior uncertain by prior_sigma (metres, rotations at the mean depth L), so the result is
+// D (H + prior_information I) D / (prior_information prior_sigma^2), D = diag(L, L, L, 1, 1,
+// 1), in (w radians, v metres). A direction the depth measures with eigenvalue lambda is
+// known lambda / prior_information times better than the prior, as the fusion weighed it.
+Eigen::Matrix<double, 6, 6> MeasuredInformation(const ViewConstraints& view,
+                                                const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions,
+                                                double prior_information, double prior_sigma);
 
 struct DepthOverlap {
   double fitness = 0;  // fraction of valid source samples within `threshold` of the target's surface

@@ -162,6 +162,32 @@ TEST(PhotometricDirections, TakesWhatTheDepthLeavesFreeAndWhatTheImageMeasuresBe
   EXPECT_EQ(PhotometricDirections(confounded, 0.01), (Eigen::Matrix<double, 6, 6>::Identity().leftCols(2)));
 }
 
+// The fused answer's information in (w radians, v metres): D (H_depth + p I + P H_image P) D
+// / (p sigma^2), D = diag(L, L, L, 1, 1, 1), P the projector on the refined directions. Where
+// neither the depth nor the image measured, the prior alone: a translation variance of
+// sigma^2 and a rotation variance of (sigma / L)^2.
+TEST(MeasuredInformation, TheFusionsInformationScaledByThePrior) {
+  Eigen::Matrix<double, 6, 1> depth, image;
+  depth << 0.0, 0.0, 0.02, 0.06, 0.1, 1.0;
+  image << 0.99, 0.0, 0.08, 0.0, 0.0, 0.5;
+  ViewConstraints view = AxisConstraints(depth, image);
+  view.depth.information(0, 3) = view.depth.information(3, 0) = 0.004;  // a tilt tied to a slide
+  const double p = 0.01, sigma = 0.005, scale = 1 / (p * sigma * sigma), l = 2.0;
+  const Eigen::Matrix<double, 6, Eigen::Dynamic> b = Eigen::Matrix<double, 6, 6>::Identity().leftCols(3);
+  const Eigen::Matrix<double, 6, 6> h = MeasuredInformation(view, b, p, sigma);
+  Eigen::Matrix<double, 6, 1> diagonal;
+  diagonal << (0.99 + p) * l * l, p * l * l, (0.02 + 0.08 + p) * l * l, 0.06 + p, 0.1 + p, 1.0 + p;
+  EXPECT_LT((h.diagonal() / scale - diagonal).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_NEAR(h(0, 3) / scale, 0.004 * l, 1e-12);  // rotation rows times L, translation rows not
+  EXPECT_NEAR(h(3, 0), h(0, 3), 1e-9);
+  EXPECT_NEAR(1 / h(1, 1), (sigma / l) * (sigma / l), 1e-15);  // the turn neither measured
+  // Without the photometric step the image adds nothing, its strong sixth row included.
+  const Eigen::Matrix<double, 6, 6> depth_only = MeasuredInformation(view, Eigen::Matrix<double, 6, 0>(), p, sigma);
+  EXPECT_NEAR(depth_only(0, 0) / scale, p * l * l, 1e-12);
+  EXPECT_NEAR(depth_only(5, 5) / scale, 1.0 + p, 1e-12);
+  EXPECT_NEAR(h(5, 5), depth_only(5, 5), 1e-6);  // the refined directions are the first three only
+}
+
 // Along each chosen axis the photometric step's move s is kept in the share lambda_image /
 // (lambda_image + lambda_depth + prior): all of it where the depth is silent and the image
 // strong, a part where both measure, none where the image is blind.

@@ -154,6 +154,11 @@ TEST(AlignWithKeyframes, ATexturedWallsSlideIsRecoveredFromItsImage) {
   options.icp.photometric = false;
   const Odometry depth_only = AlignWithKeyframes(seq, options, Quiet());
   EXPECT_EQ(depth_only.pairs[0].degenerate, 3);
+  // Its information says so: the wall's distance (the optical axis) known far better than the
+  // prior's 5 mm, the slide along it (x) not (MeasuredInformation).
+  const Eigen::Matrix<double, 6, 6> covariance = depth_only.pairs[0].information.inverse();
+  EXPECT_LT(std::sqrt(covariance(5, 5)), 0.1 * options.icp.prior_sigma);
+  EXPECT_GT(std::sqrt(covariance(3, 3)), 0.9 * options.icp.prior_sigma);
   const Rigid3d truth = poses[0].inverse() * poses[1];
   const Rigid3d& first = depth_only.t0.world_from_camera[1];
   EXPECT_GT((first.translation() - truth.translation()).norm(), 0.01);

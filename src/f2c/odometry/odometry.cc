@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 
 #include "f2c/io/image.h"
@@ -117,14 +118,18 @@ void ApplyFallback(const FrameImages& prev, const FrameImages& curr, const Camer
   if (pair->method != AlignmentMethod::kSift) {
     best.method = AlignmentMethod::kMotionPrior;
     best.prev_from_curr = previous_motion;
+    best.information.setZero();
     ScoreOverlap(prev.depth, curr.depth, k, options, clock, &best);
   }
   if (options.icp_fallback) {
     Timer timer;
     PairAlignment icp = *pair;
     icp.prev_from_curr = previous_motion;
+    icp.information.setZero();  // not the SIFT fit's, which this pair replaces
     const bool ok = AlignDepthIcp(curr.depth, prev.depth, k, previous_motion, o, &icp.prev_from_curr);
     clock->icp += timer.Seconds();
+    std::optional<ViewConstraints> analysed;
+    Eigen::Matrix<double, 6, Eigen::Dynamic> refined_along(6, 0);  // what the photometric step measured
     if (ok && o.prior_information > 0) {
       // Where the reference's geometry leaves ICP free (a plain wall), keep the previous motion.
       timer.Restart();
@@ -144,13 +149,18 @@ void ApplyFallback(const FrameImages& prev, const FrameImages& curr, const Camer
         if (AlignPhotometric(prev.gray, prev.depth, curr.gray, k, weak, view.depth.mean_depth, o.dense, &refined).ok) {
           icp.prev_from_curr =
               FusePhotometric(refined, icp.prev_from_curr, view, weak, o.prior_information, &icp.degenerate);
+          refined_along = weak;
         }
       }
+      analysed = view;
       clock->icp += timer.Seconds();
     }
     if (ok) {
       icp.method = AlignmentMethod::kIcp;
       ScoreOverlap(prev.depth, curr.depth, k, options, clock, &icp);
+      if (analysed && analysed->depth.samples > 0) {
+        icp.information = MeasuredInformation(*analysed, refined_along, o.prior_information, o.prior_sigma);
+      }
       if (best.method == AlignmentMethod::kMotionPrior || icp.fitness > best.fitness) best = icp;
     }
   }
@@ -362,7 +372,7 @@ nlohmann::json ToJson(const PairAlignment& p) {
           {"fitness", p.fitness},
           {"degenerate", p.degenerate},
           {"overlap_rmse", p.overlap_rmse}};
-  if ((p.method == AlignmentMethod::kSift || p.method == AlignmentMethod::kTrack) && !p.information.isZero()) {
+  if (p.method != AlignmentMethod::kMotionPrior && !p.information.isZero()) {
     std::vector<double> upper;  // row by row, the 21 entries on and above the diagonal
     for (int r = 0; r < 6; ++r) {
       for (int c = r; c < 6; ++c) upper.push_back(p.information(r, c));

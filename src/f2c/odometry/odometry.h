@@ -139,11 +139,13 @@ struct PairAlignment {
   double fitness = 0;  // fraction of frame k's depth samples within fitness_threshold of the reference's
   double overlap_rmse = 0;  // metres, of those samples
   int degenerate = 0;  // ICP: directions of motion the reference's geometry left to the previous motion
-  // SIFT and tracked pairs: how precisely the RANSAC inliers fix prev_from_curr under the
-  // depth noise model (RigidFitInformation, matching/ransac.h): a left perturbation of
-  // prev_from_curr in the reference's coordinates, (w radians, v metres). Zero where not
-  // measured (ICP, motion prior, old caches). E_L whitens its constraints by it
-  // (refine/local_alignment.h).
+  // How precisely the pair's measurements fix prev_from_curr: a left perturbation of
+  // prev_from_curr in the reference's coordinates, (w radians, v metres). SIFT and tracked
+  // pairs: the RANSAC inliers under the depth noise model (RigidFitInformation,
+  // matching/ransac.h). ICP fallbacks: the depth's point-to-plane constraint and the image's
+  // along what the photometric step refined (MeasuredInformation, depth_alignment.h), none
+  // along what was left to the motion prior. Zero where not measured (motion prior, old
+  // caches). E_L whitens its constraints by it (refine/local_alignment.h).
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
 
   int Reference() const { return reference >= 0 ? reference : frame - 1; }

@@ -51,8 +51,9 @@ TEST(PairAlignmentJson, RoundTripsEveryField) {
   EXPECT_EQ(PairAlignmentFromJson(old).Reference(), 4);
 }
 
-// A SIFT or tracked pair's information travels as its 21 upper-triangle entries; other
-// methods carry none, and entries without it (older caches) read back as unmeasured.
+// A pair's information travels as its 21 upper-triangle entries (SIFT, tracked and ICP
+// pairs); a motion-prior pair carries none, and entries without it (older caches) read back
+// as unmeasured.
 TEST(PairAlignmentJson, InformationOfFittedPairsRoundTrips) {
   PairAlignment a = SomePair();
   a.method = AlignmentMethod::kTrack;
@@ -64,6 +65,8 @@ TEST(PairAlignmentJson, InformationOfFittedPairsRoundTrips) {
   EXPECT_EQ(j.at("information")[1].get<double>(), 10.0);  // row 0, column 1
   EXPECT_EQ(PairAlignmentFromJson(j).information, a.information);
   a.method = AlignmentMethod::kIcp;
+  EXPECT_EQ(PairAlignmentFromJson(ToJson(a)).information, a.information);
+  a.method = AlignmentMethod::kMotionPrior;
   EXPECT_FALSE(ToJson(a).contains("information"));
   EXPECT_TRUE(PairAlignmentFromJson(ToJson(a)).information.isZero());
   nlohmann::json short_list = j, negative = j;

@@ -59,6 +59,7 @@ struct SteadyMotionConstraint {
   int32_t frame_c = 0;
   double scale_ab = 1;
   double scale_bc = 1;
+  double weight = 1;  // relative to the other triples (refine/steady_motion.h)
 };
 
 // E_M (beyond the paper): a SIFT match between two frames the refinement re-matched (a loop

@@ -29,7 +29,8 @@ Matrix6d Adjoint(const Rigid3d& a_from_b) {
 // The pair's covariance (its information's inverse plus the floor) where E_L whitens it.
 std::optional<Matrix6d> PairCovariance(const PairAlignment& pair, const LocalAlignmentOptions& o) {
   const bool fitted = pair.method == AlignmentMethod::kSift || pair.method == AlignmentMethod::kTrack;
-  if (!o.information || !fitted || pair.information.isZero()) return std::nullopt;
+  const bool icp = pair.method == AlignmentMethod::kIcp && o.icp_information;
+  if (!o.information || !(fitted || icp) || pair.information.isZero()) return std::nullopt;
   const Eigen::LDLT<Matrix6d> ldlt(pair.information);
   if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all()) return std::nullopt;
   Matrix6d covariance = ldlt.solve(Matrix6d::Identity());
@@ -61,6 +62,10 @@ void LocalAlignmentOptions::Check() const {
 
 double FitnessRamp(const PairAlignment& pair, const LocalAlignmentOptions& o) {
   return std::clamp((pair.fitness - o.fitness_low) / (o.fitness_high - o.fitness_low), o.min_ramp, 1.0);
+}
+
+bool LeftToPrior(const PairAlignment& pair) {
+  return pair.method == AlignmentMethod::kMotionPrior || (pair.method == AlignmentMethod::kIcp && pair.degenerate > 0);
 }
 
 bool Whitens(const PairAlignment& pair, const LocalAlignmentOptions& o) { return PairCovariance(pair, o).has_value(); }
@@ -98,7 +103,7 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
     F2C_CHECK(pair.Reference() >= 0 && pair.Reference() < k, "a pair's reference precedes its frame");
     confidence[k] = PairConfidence(pair, options);
     if (pair.method == AlignmentMethod::kSift || pair.method == AlignmentMethod::kTrack) inliers[k] = pair.inliers;
-    measured[k] = pair.method != AlignmentMethod::kMotionPrior && !(pair.method == AlignmentMethod::kIcp && pair.degenerate > 0);
+    measured[k] = !LeftToPrior(pair);
     reference[k] = pair.Reference();
     world_from[k] = world_from[reference[k]] * pair.prev_from_curr;
     covariance[k] = PairCovariance(pair, options);

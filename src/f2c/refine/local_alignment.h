@@ -17,7 +17,10 @@
 // d the distance T0 puts between the two cameras.
 //
 // Whitened (beyond the paper; `information`): where every pair on the path is a SIFT or
-// tracked pair with its fit's information (PairAlignment::information), the constraint is
+// tracked pair with its fit's information, or an ICP fallback with the information of its
+// fusion (`icp_information`; PairAlignment::information, odometry/depth_alignment.h
+// MeasuredInformation: what the depth and the image measured, and the motion prior's
+// uncertainty along the rest), the constraint is
 // weighed by what those fits measured, direction by direction, instead of by one number and
 // the lever arm. A pair's covariance is its information's inverse plus a floor (below); the
 // path's is the sum of its pairs', each moved into frame a's coordinates by the adjoint of
@@ -28,7 +31,9 @@
 // whitened constraints), so a typical pair weighs about as a scalar one. The confidence is
 // then the fitness ramp alone: the information says what the inlier count said, better. A
 // mottled wall's tracked pairs that fix its roll poorly give E_L little say over that roll
-// and full say over what they measured well.
+// and full say over what they measured well; a run of fallbacks facing a plain wall holds its
+// distance and tilts firmly and leaves its roll and slides, which the odometry took from the
+// prior, to E_V's steady motion (refine/steady_motion.h), which weighs more there.
 
 #include <nlohmann/json_fwd.hpp>
 #include <string>
@@ -70,6 +75,11 @@ struct LocalAlignmentOptions {
   // and the simulated walks keep most of the gain.
   double floor_rotation_deg = 0.05;
   double floor_translation = 0.001;  // metres
+  // ICP fallbacks whitened too, by the information their fusion of depth, image and motion
+  // prior had (PairAlignment::information). Measured (BENCHMARKS.md, "Twenty-ninth stop"):
+  // with one weight each, E_L held the roll and slide that a run of fallbacks facing a plain
+  // wall had taken from the prior as firmly as what their depth measured.
+  bool icp_information = true;
   // Which pairs: "frames": j and j + 2^k over all frames (the paper), plus each frame and its
   // reference; "keyframes": each frame and its reference (the odometry's own measurements),
   // plus keyframes i and i + 2^k over the keyframes (k >= 1). Without keyframe odometry the
@@ -102,14 +112,20 @@ struct LocalAlignmentOptions {
               "each whitened pair's rotation is uncertain by at least this (deg)");
     F2C_FIELD(v, floor_translation, "--local-floor-translation", AtLeast(0),
               "...and its translation by at least this (m)");
+    F2C_FIELD(v, icp_information, "--local-icp-information=on|off", {},
+              "whiten E_L through ICP fallbacks too, by what their depth and image measured");
   }
   void Check() const;
 };
 
 double PairConfidence(const PairAlignment& pair, const LocalAlignmentOptions& options);
-// Whether E_L whitens this pair (`information` on, a SIFT or tracked pair whose information
-// is positive definite); its confidence is then the fitness ramp alone.
+// Whether E_L whitens this pair (`information` on, a SIFT or tracked pair, or an ICP
+// fallback with `icp_information` on, whose information is positive definite); its
+// confidence is then the fitness ramp alone.
 bool Whitens(const PairAlignment& pair, const LocalAlignmentOptions& options);
+// Whether the pair left directions of its motion to the motion prior (the prior itself, or
+// an ICP fallback with degenerate > 0).
+bool LeftToPrior(const PairAlignment& pair);
 // The fitness ramp of PairConfidence alone.
 double FitnessRamp(const PairAlignment& pair, const LocalAlignmentOptions& options);
 

@@ -264,5 +264,35 @@ TEST(LocalConstraints, WhitenedOnlyWhereEveryPairOnThePathHasItsInformation) {
   for (const RelativePoseConstraint& r : c) EXPECT_FALSE(r.whitened());
 }
 
+// An ICP fallback that carries its fusion's information is whitened like a tracked pair
+// (`icp_information`, on by default): a plain wall's fallback measured its distance to 0.1 mm
+// and left its slide to the prior (5 mm), and the whitened link weighs them so. Off, it keeps
+// the scalar ICP weight.
+TEST(LocalConstraints, IcpFallbacksWhitenedByTheirFusionsInformation) {
+  std::vector<PairAlignment> pairs = {Pair(1, AlignmentMethod::kIcp, 0, 1.0, 0.0)};
+  pairs[0].prev_from_curr = Rigid3d::Identity();
+  Eigen::Matrix<double, 6, 1> variance;
+  variance << 1e-8, 1e-8, 1e-4, 2.5e-5, 2.5e-5, 1e-8;  // (w, v): tilts and distance measured
+  pairs[0].information = variance.cwiseInverse().asDiagonal();
+  LocalAlignmentOptions o;
+  o.reference_sigma = 1;
+  o.floor_rotation_deg = 0;
+  o.floor_translation = 0;
+  std::vector<RelativePoseConstraint> c = LocalConstraints(pairs, o);
+  ASSERT_EQ(c.size(), 1u);
+  ASSERT_TRUE(c[0].whitened());
+  EXPECT_NEAR(c[0].weight, FitnessRamp(pairs[0], o), 1e-12);
+  // Identity pose: the error is the perturbation (translation first, then 2 vec(q), the
+  // rotation vector to first order), so each row is 1 / sigma of its direction.
+  EXPECT_NEAR(c[0].sqrt_information(3, 3), 1 / 1e-4, 1e-6);
+  EXPECT_NEAR(c[0].sqrt_information(5, 5), 1 / 1e-2, 1e-9);  // the roll left to the prior
+  EXPECT_NEAR(c[0].sqrt_information(0, 0), 1 / 5e-3, 1e-9);
+  EXPECT_NEAR(c[0].sqrt_information(2, 2), 1 / 1e-4, 1e-6);
+  o.icp_information = false;
+  c = LocalConstraints(pairs, o);
+  EXPECT_FALSE(c[0].whitened());
+  EXPECT_NEAR(c[0].weight, o.icp_weight, 1e-12);
+}
+
 }  // namespace
 }  // namespace f2c

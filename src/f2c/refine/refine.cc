@@ -99,7 +99,9 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
   const WindowSchedule schedule(options.windows, path);
   Constraints constraints;
   constraints.local = LocalConstraints(pairs, options.local);
-  constraints.steady_motion = SteadyMotionConstraints(t0.timestamps, options.steady_motion);
+  std::vector<char> unmeasured(n, 0);
+  for (const PairAlignment& p : pairs) unmeasured[p.frame] = LeftToPrior(p);
+  constraints.steady_motion = SteadyMotionConstraints(t0.timestamps, options.steady_motion, unmeasured);
   std::vector<double> confidence;
   std::vector<int> link_from;  // each frame's odometry reference
   for (const PairAlignment& p : pairs) {

@@ -2,13 +2,17 @@
 
 #include <algorithm>
 
+#include "f2c/util/error.h"
+
 namespace f2c {
 
 void SteadyMotionOptions::Check() const { CheckFields(*this); }
 
 std::vector<SteadyMotionConstraint> SteadyMotionConstraints(const std::vector<double>& timestamps,
-                                                            const SteadyMotionOptions& options) {
+                                                            const SteadyMotionOptions& options,
+                                                            const std::vector<char>& unmeasured) {
   options.Check();
+  F2C_CHECK(unmeasured.empty() || unmeasured.size() == timestamps.size(), "one unmeasured flag per frame");
   std::vector<SteadyMotionConstraint> out;
   const int n = static_cast<int>(timestamps.size());
   if (n < 3) return out;
@@ -26,7 +30,8 @@ std::vector<SteadyMotionConstraint> SteadyMotionConstraints(const std::vector<do
     const double ab = timestamps[k] - timestamps[k - 1];
     const double bc = timestamps[k + 1] - timestamps[k];
     if (!usable(ab) || !usable(bc)) continue;
-    out.push_back({k - 1, k, k + 1, unit / ab, unit / bc});
+    const bool prior = !unmeasured.empty() && (unmeasured[k] || unmeasured[k + 1]);
+    out.push_back({k - 1, k, k + 1, unit / ab, unit / bc, prior ? options.unmeasured_weight : 1.0});
   }
   return out;
 }

@@ -23,6 +23,12 @@ namespace f2c {
 struct SteadyMotionOptions {
   double reference_rate = 30;  // Hz: velocities in units of one frame at this rate
   double max_gap = 3;          // intervals longer than this times the median break the chain
+  // Where an odometry pair left directions to the motion prior (an ICP fallback facing a plain
+  // wall, or the prior itself), the prior was the odometry's only measurement of them, and
+  // E_L holds them no better than that (refine/local_alignment.h); a triple that contains such
+  // a pair weighs this many times a plain one. Measured (BENCHMARKS.md, "Twenty-ninth
+  // stop"): 3 against 1, with E_L whitened through the fallbacks.
+  double unmeasured_weight = 3;
 
   template <class V>
   void Fields(V& v) {
@@ -31,13 +37,17 @@ struct SteadyMotionOptions {
               "E_V compares velocities in units of one frame at this rate (Hz)");
     F2C_FIELD(v, max_gap, "--velocity-max-gap", AtLeast(1),
               "E_V leaves out triples with an interval over this times the median interval");
+    F2C_FIELD(v, unmeasured_weight, "--velocity-unmeasured-weight", AtLeast(0),
+              "E_V triples containing an odometry pair that left directions to the motion prior weigh this much");
   }
   void Check() const;
 };
 
 // One constraint per triple (k - 1, k, k + 1) whose two intervals are within the gap;
-// `timestamps` in seconds, one per frame, in frame order.
+// `timestamps` in seconds, one per frame, in frame order. unmeasured[k] (optional, one per
+// frame): frame k's odometry pair left directions to the motion prior.
 std::vector<SteadyMotionConstraint> SteadyMotionConstraints(const std::vector<double>& timestamps,
-                                                            const SteadyMotionOptions& options);
+                                                            const SteadyMotionOptions& options,
+                                                            const std::vector<char>& unmeasured = {});
 
 }  // namespace f2c
