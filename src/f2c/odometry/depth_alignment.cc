@@ -232,10 +232,13 @@ Rigid3d ConstrainToGeometry(const Rigid3d& icp, const Rigid3d& prior, const Dept
 
 Eigen::Matrix<double, 6, 6> MeasuredInformation(const ViewConstraints& view,
                                                 const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions,
-                                                double prior_information, double prior_sigma) {
+                                                double prior_information, double prior_sigma, double fusion_sigma) {
   using Matrix6d = Eigen::Matrix<double, 6, 6>;
+  if (fusion_sigma <= 0) fusion_sigma = prior_sigma;
   F2C_CHECK(prior_information > 0 && prior_sigma > 0, "the prior's information and sigma are positive");
-  Matrix6d h = view.depth.information + prior_information * Matrix6d::Identity();
+  // The measurements' part keeps the fusion's scale; the prior's own part is what it is worth.
+  const double ratio = fusion_sigma / prior_sigma;
+  Matrix6d h = view.depth.information + prior_information * ratio * ratio * Matrix6d::Identity();
   if (directions.cols() > 0) {
     const Matrix6d along = directions * directions.transpose();
     h += along * view.image.information * along;
@@ -243,7 +246,7 @@ Eigen::Matrix<double, 6, 6> MeasuredInformation(const ViewConstraints& view,
   Eigen::Matrix<double, 6, 1> d;
   d << Eigen::Vector3d::Constant(view.depth.mean_depth), Eigen::Vector3d::Ones();
   const Matrix6d scaled = d.asDiagonal() * h * d.asDiagonal();
-  return (0.5 * (scaled + scaled.transpose())) / (prior_information * prior_sigma * prior_sigma);
+  return (0.5 * (scaled + scaled.transpose())) / (prior_information * fusion_sigma * fusion_sigma);
 }
 
 DepthOverlap MeasureDepthOverlap(const cv::Mat& source_depth, const cv::Mat& target_depth,

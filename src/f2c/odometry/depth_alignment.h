@@ -50,6 +50,9 @@ struct IcpOptions {
   // depth): the scale of an ICP fallback's information (MeasuredInformation). Measured
   // (BENCHMARKS.md, "Twenty-ninth stop"): 5 mm against 10 and 20 on the simulated walks.
   double prior_sigma = 0.005;
+  // ...widened by this many prior_sigma for each pair in a row before it that left
+  // directions to the motion prior (PriorAge): the prior came from them.
+  double prior_sigma_growth = 0.5;
   PhotometricOptions dense;
 
   template <class V>
@@ -71,6 +74,8 @@ struct IcpOptions {
               "where the depth leaves motions free, measure them by photometric alignment");
     F2C_FIELD(v, prior_sigma, "--icp-prior-sigma", Positive(),
               "the motion prior's error per pair (m; rotations at the mean depth), the scale of an ICP pair's information");
+    F2C_FIELD(v, prior_sigma_growth, "--icp-prior-sigma-growth", AtLeast(0),
+              "the motion prior's error grows by this many --icp-prior-sigma per pair in a row before it left to the prior");
     F2C_FIELD(v, min_gradient, "--icp-min-gradient", Positive(),
               "grey-level gradient (per pixel) at which a sample's intensity constrains the motion");
     F2C_NESTED(v, dense);
@@ -153,9 +158,15 @@ Rigid3d FusePhotometric(const Rigid3d& refined, const Rigid3d& fused, const View
 // D (H + prior_information I) D / (prior_information prior_sigma^2), D = diag(L, L, L, 1, 1,
 // 1), in (w radians, v metres). A direction the depth measures with eigenvalue lambda is
 // known lambda / prior_information times better than the prior, as the fusion weighed it.
+// That prior is fusion_sigma's (0: prior_sigma): the measurements' scale. The prior of this
+// pair may be worse, prior_sigma > fusion_sigma, where it was taken from answers that
+// themselves repeated an older prior (a run of ICP fallbacks on a plain wall: the velocity
+// along the wall stays what it was when the run began, and its error grows with the run);
+// the prior's own term is then I / prior_sigma^2, H's stays H / (prior_information
+// fusion_sigma^2).
 Eigen::Matrix<double, 6, 6> MeasuredInformation(const ViewConstraints& view,
                                                 const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions,
-                                                double prior_information, double prior_sigma);
+                                                double prior_information, double prior_sigma, double fusion_sigma = 0);
 
 struct DepthOverlap {
   double fitness = 0;  // fraction of valid source samples within `threshold` of the target's surface

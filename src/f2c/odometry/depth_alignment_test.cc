@@ -188,6 +188,27 @@ TEST(MeasuredInformation, TheFusionsInformationScaledByThePrior) {
   EXPECT_NEAR(h(5, 5), depth_only(5, 5), 1e-6);  // the refined directions are the first three only
 }
 
+// A prior three times as uncertain as the fusion assumed (a run of fallbacks before it): the
+// prior's term drops to I / (3 sigma)^2 in (w, v) units, the measurements' terms keep the
+// fusion's scale 1 / (p sigma^2).
+TEST(MeasuredInformation, AnOlderPriorWeighsLessAndTheMeasurementsAsBefore) {
+  Eigen::Matrix<double, 6, 1> depth, image;
+  depth << 0.0, 0.0, 0.02, 0.06, 0.1, 1.0;
+  image << 0.99, 0.0, 0.08, 0.0, 0.0, 0.5;
+  const ViewConstraints view = AxisConstraints(depth, image);
+  const double p = 0.01, sigma = 0.005, l = 2.0, scale = 1 / (p * sigma * sigma);
+  const Eigen::Matrix<double, 6, Eigen::Dynamic> b = Eigen::Matrix<double, 6, 6>::Identity().leftCols(3);
+  const Eigen::Matrix<double, 6, 6> aged = MeasuredInformation(view, b, p, 3 * sigma, sigma);
+  Eigen::Matrix<double, 6, 1> diagonal;
+  diagonal << (0.99 + p / 9) * l * l, p / 9 * l * l, (0.02 + 0.08 + p / 9) * l * l, 0.06 + p / 9, 0.1 + p / 9,
+      1.0 + p / 9;
+  EXPECT_LT((aged.diagonal() / scale - diagonal).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_NEAR(1 / aged(1, 1), (3 * sigma / l) * (3 * sigma / l), 1e-15);  // the turn: the prior alone
+  // Without an age the two sigmas are one.
+  const Eigen::Matrix<double, 6, 6> fresh = MeasuredInformation(view, b, p, sigma, sigma);
+  EXPECT_LT((fresh - MeasuredInformation(view, b, p, sigma)).cwiseAbs().maxCoeff(), 1e-6);
+}
+
 // Along each chosen axis the photometric step's move s is kept in the share lambda_image /
 // (lambda_image + lambda_depth + prior): all of it where the depth is silent and the image
 // strong, a part where both measure, none where the image is blind.

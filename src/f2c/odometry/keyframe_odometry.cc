@@ -86,7 +86,8 @@ class KeyframeTracker {
       // predicted motion, so textureless stretches chain keyframes, not every frame.
       PairAlignment icp = pair;
       icp.reference = key_.frame;
-      internal::ApplyFallback({key_.depth, key_.gray}, {frame.depth, frame.gray}, k_, options_, keyframe_from_guess, clock_, &icp);
+      internal::ApplyFallback({key_.depth, key_.gray}, {frame.depth, frame.gray}, k_, options_, keyframe_from_guess,
+                              PriorAge(odometry_->pairs, k - 1), clock_, &icp);
       aligned = icp.method == AlignmentMethod::kIcp && icp.fitness >= options_.min_fitness;
       if (aligned) {
         pair = icp;
@@ -103,7 +104,8 @@ class KeyframeTracker {
           internal::ScoreOverlap(previous_.depth, frame.depth, k_, options_, clock_, &pair);
         }
       }
-      internal::ApplyFallback({previous_.depth, previous_.gray}, {frame.depth, frame.gray}, k_, options_, motion, clock_, &pair);
+      internal::ApplyFallback({previous_.depth, previous_.gray}, {frame.depth, frame.gray}, k_, options_, motion,
+                              PriorAge(odometry_->pairs, k - 1), clock_, &pair);
       pair.keyframe = true;
     }
     if (!pair.keyframe && pair.reference == key_.frame) {

@@ -159,6 +159,15 @@ TEST(AlignWithKeyframes, ATexturedWallsSlideIsRecoveredFromItsImage) {
   const Eigen::Matrix<double, 6, 6> covariance = depth_only.pairs[0].information.inverse();
   EXPECT_LT(std::sqrt(covariance(5, 5)), 0.1 * options.icp.prior_sigma);
   EXPECT_GT(std::sqrt(covariance(3, 3)), 0.9 * options.icp.prior_sigma);
+  // The fourth pair's prior came from three such pairs in a row: the slide's uncertainty has
+  // grown to (1 + 3 g) sigma (g = prior_sigma_growth), the distance's has not.
+  ASSERT_EQ(depth_only.pairs[3].degenerate, 3);
+  EXPECT_EQ(PriorAge(depth_only.pairs, 3), 3);
+  const double grown = (1 + 3 * options.icp.prior_sigma_growth) * options.icp.prior_sigma;
+  ASSERT_GT(grown, 2 * options.icp.prior_sigma);
+  const Eigen::Matrix<double, 6, 6> aged = depth_only.pairs[3].information.inverse();
+  EXPECT_NEAR(std::sqrt(aged(3, 3)), grown, 0.05 * grown);  // the depth and the prior said nothing else
+  EXPECT_LT(std::sqrt(aged(5, 5)), 0.1 * options.icp.prior_sigma);
   const Rigid3d truth = poses[0].inverse() * poses[1];
   const Rigid3d& first = depth_only.t0.world_from_camera[1];
   EXPECT_GT((first.translation() - truth.translation()).norm(), 0.01);

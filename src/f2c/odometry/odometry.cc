@@ -111,7 +111,7 @@ bool NeedsFallback(const PairAlignment& pair, const OdometryOptions& options) {
 // Keeps whichever of the SIFT answer, the ICP answer and the previous motion the depth images
 // agree with most (SIFT wins ties).
 void ApplyFallback(const FrameImages& prev, const FrameImages& curr, const CameraIntrinsics& k,
-                   const OdometryOptions& options, const Rigid3d& previous_motion,
+                   const OdometryOptions& options, const Rigid3d& previous_motion, int prior_age,
                    StageClock* clock, PairAlignment* pair) {
   const IcpOptions& o = options.icp;
   PairAlignment best = *pair;
@@ -159,7 +159,8 @@ void ApplyFallback(const FrameImages& prev, const FrameImages& curr, const Camer
       icp.method = AlignmentMethod::kIcp;
       ScoreOverlap(prev.depth, curr.depth, k, options, clock, &icp);
       if (analysed && analysed->depth.samples > 0) {
-        icp.information = MeasuredInformation(*analysed, refined_along, o.prior_information, o.prior_sigma);
+        icp.information = MeasuredInformation(*analysed, refined_along, o.prior_information,
+                                              o.prior_sigma * (1.0 + o.prior_sigma_growth * prior_age), o.prior_sigma);
       }
       if (best.method == AlignmentMethod::kMotionPrior || icp.fitness > best.fitness) best = icp;
     }
@@ -231,9 +232,16 @@ PairAlignment AlignPair(const cv::Mat& gray_prev, const cv::Mat& depth_prev,
   PairAlignment pair = AlignSift(prev, curr, options, seed, &clock);
   if (pair.method == AlignmentMethod::kSift) ScoreOverlap(depth_prev, depth_curr, intrinsics, options, &clock, &pair);
   if (NeedsFallback(pair, options)) {
-    ApplyFallback({depth_prev, gray_prev}, {depth_curr, gray_curr}, intrinsics, options, previous_motion, &clock, &pair);
+    ApplyFallback({depth_prev, gray_prev}, {depth_curr, gray_curr}, intrinsics, options, previous_motion, 0, &clock,
+                  &pair);
   }
   return pair;
+}
+
+int PriorAge(const std::vector<PairAlignment>& pairs, int index) {
+  int age = 0;
+  for (int i = std::min(index, static_cast<int>(pairs.size())) - 1; i >= 0 && pairs[i].LeftToPrior(); --i) ++age;
+  return age;
 }
 
 std::vector<int> OdometryKeyframes(const Odometry& odometry) {
@@ -335,7 +343,7 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
       if (!have[k - 1] && NeedsFallback(pair, options)) {
         const Rigid3d previous = k > 1 ? odometry.pairs[k - 2].prev_from_curr : Rigid3d::Identity();
         ApplyFallback(frames[k - 1 - begin].images, frames[k - begin].images, *seq.intrinsics, options,
-                      previous, &clock, &pair);
+                      previous, PriorAge(odometry.pairs, k - 1), &clock, &pair);
       }
       if (!have[k - 1]) progress.Advance();
     }

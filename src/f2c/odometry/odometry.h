@@ -149,7 +149,17 @@ struct PairAlignment {
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
 
   int Reference() const { return reference >= 0 ? reference : frame - 1; }
+  // Some direction of prev_from_curr came from the motion prior, not from the images: the
+  // prior itself, or an ICP fallback whose reference's geometry left directions free.
+  bool LeftToPrior() const {
+    return method == AlignmentMethod::kMotionPrior || (method == AlignmentMethod::kIcp && degenerate > 0);
+  }
 };
+
+// How many pairs in a row before pairs[index] (pairs[index - 1], pairs[index - 2], ...) left
+// directions to the motion prior: the motion prior of a fallback at `index` was taken from
+// that many pairs that themselves partly repeated an older prior.
+int PriorAge(const std::vector<PairAlignment>& pairs, int index);
 
 // Seconds summed over work items (CPU time of the stage, all threads), plus wall time.
 struct OdometryTimings {

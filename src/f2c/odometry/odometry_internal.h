@@ -35,9 +35,10 @@ struct FrameImages {
 
 // Depth ICP from `previous_motion` (refined by intensity where the depth leaves motions
 // free); keeps whichever of the pair's answer, ICP's and the previous motion the
-// depth images agree with most (see odometry.cc).
+// depth images agree with most (see odometry.cc). prior_age: PriorAge of the pair, which
+// widens the prior's uncertainty in the ICP answer's information (MeasuredInformation).
 void ApplyFallback(const FrameImages& prev, const FrameImages& curr, const CameraIntrinsics& k,
-                   const OdometryOptions& options, const Rigid3d& previous_motion, StageClock* clock,
+                   const OdometryOptions& options, const Rigid3d& previous_motion, int prior_age, StageClock* clock,
                    PairAlignment* pair);
 
 // Depth in metres and the colour image in grey.

@@ -221,6 +221,21 @@ Rigid3d Motion(double angle, const Eigen::Vector3d& axis, const Eigen::Vector3d&
   return m;
 }
 
+// PriorAge counts the pairs in a row before the given one that left directions to the motion
+// prior: motion-prior pairs and ICP pairs with a degenerate direction; a measured pair (SIFT,
+// or ICP that measured everything) ends the run.
+TEST(PriorAge, CountsThePairsInARowLeftToThePrior) {
+  std::vector<PairAlignment> pairs(6);
+  pairs[0].method = AlignmentMethod::kIcp, pairs[0].degenerate = 1;
+  pairs[1].method = AlignmentMethod::kSift;
+  pairs[2].method = AlignmentMethod::kIcp, pairs[2].degenerate = 2;
+  pairs[3].method = AlignmentMethod::kMotionPrior;
+  pairs[4].method = AlignmentMethod::kIcp, pairs[4].degenerate = 0;
+  pairs[5].method = AlignmentMethod::kIcp, pairs[5].degenerate = 3;
+  const std::vector<int> expected = {0, 1, 0, 1, 2, 0, 1};
+  for (int i = 0; i <= 6; ++i) EXPECT_EQ(PriorAge(pairs, i), expected[i]) << i;
+}
+
 // T0 chains each frame onto its reference's pose, whether the reference is the previous frame
 // or an earlier keyframe, and keeps the frames' timestamps.
 TEST(ConcatenatePairs, ChainsEachFrameOntoItsReference) {

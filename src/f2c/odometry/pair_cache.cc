@@ -15,7 +15,7 @@ namespace {
 // Bumped whenever a pair's answer changes for the same options (3: the photometric step also
 // refines the directions the image measures better than the depth; 4: SIFT and tracked pairs
 // carry their information; 5: so do ICP fallbacks).
-constexpr int kCacheVersion = 5;
+constexpr int kCacheVersion = 6;
 
 }  // namespace
 

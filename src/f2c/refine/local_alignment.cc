@@ -64,10 +64,6 @@ double FitnessRamp(const PairAlignment& pair, const LocalAlignmentOptions& o) {
   return std::clamp((pair.fitness - o.fitness_low) / (o.fitness_high - o.fitness_low), o.min_ramp, 1.0);
 }
 
-bool LeftToPrior(const PairAlignment& pair) {
-  return pair.method == AlignmentMethod::kMotionPrior || (pair.method == AlignmentMethod::kIcp && pair.degenerate > 0);
-}
-
 bool Whitens(const PairAlignment& pair, const LocalAlignmentOptions& o) { return PairCovariance(pair, o).has_value(); }
 
 double PairConfidence(const PairAlignment& pair, const LocalAlignmentOptions& o) {
@@ -103,7 +99,7 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
     F2C_CHECK(pair.Reference() >= 0 && pair.Reference() < k, "a pair's reference precedes its frame");
     confidence[k] = PairConfidence(pair, options);
     if (pair.method == AlignmentMethod::kSift || pair.method == AlignmentMethod::kTrack) inliers[k] = pair.inliers;
-    measured[k] = !LeftToPrior(pair);
+    measured[k] = !pair.LeftToPrior();
     reference[k] = pair.Reference();
     world_from[k] = world_from[reference[k]] * pair.prev_from_curr;
     covariance[k] = PairCovariance(pair, options);

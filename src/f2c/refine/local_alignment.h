@@ -123,9 +123,6 @@ double PairConfidence(const PairAlignment& pair, const LocalAlignmentOptions& op
 // fallback with `icp_information` on, whose information is positive definite); its
 // confidence is then the fitness ramp alone.
 bool Whitens(const PairAlignment& pair, const LocalAlignmentOptions& options);
-// Whether the pair left directions of its motion to the motion prior (the prior itself, or
-// an ICP fallback with degenerate > 0).
-bool LeftToPrior(const PairAlignment& pair);
 // The fitness ramp of PairConfidence alone.
 double FitnessRamp(const PairAlignment& pair, const LocalAlignmentOptions& options);
 

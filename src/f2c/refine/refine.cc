@@ -100,7 +100,7 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
   Constraints constraints;
   constraints.local = LocalConstraints(pairs, options.local);
   std::vector<char> unmeasured(n, 0);
-  for (const PairAlignment& p : pairs) unmeasured[p.frame] = LeftToPrior(p);
+  for (const PairAlignment& p : pairs) unmeasured[p.frame] = p.LeftToPrior();
   constraints.steady_motion = SteadyMotionConstraints(t0.timestamps, options.steady_motion, unmeasured);
   std::vector<double> confidence;
   std::vector<int> link_from;  // each frame's odometry reference
