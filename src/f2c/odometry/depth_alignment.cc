@@ -232,13 +232,12 @@ Rigid3d ConstrainToGeometry(const Rigid3d& icp, const Rigid3d& prior, const Dept
 
 Eigen::Matrix<double, 6, 6> MeasuredInformation(const ViewConstraints& view,
                                                 const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions,
-                                                double prior_information, double prior_sigma, double fusion_sigma) {
+                                                double prior_information, double prior_sigma, double prior_widening) {
   using Matrix6d = Eigen::Matrix<double, 6, 6>;
-  if (fusion_sigma <= 0) fusion_sigma = prior_sigma;
-  F2C_CHECK(prior_information > 0 && prior_sigma > 0, "the prior's information and sigma are positive");
+  F2C_CHECK(prior_information > 0 && prior_sigma > 0 && prior_widening >= 1,
+            "the prior's information and sigma are positive, its widening at least 1");
   // The measurements' part keeps the fusion's scale; the prior's own part is what it is worth.
-  const double ratio = fusion_sigma / prior_sigma;
-  Matrix6d h = view.depth.information + prior_information * ratio * ratio * Matrix6d::Identity();
+  Matrix6d h = view.depth.information + prior_information / (prior_widening * prior_widening) * Matrix6d::Identity();
   if (directions.cols() > 0) {
     const Matrix6d along = directions * directions.transpose();
     h += along * view.image.information * along;
@@ -246,7 +245,7 @@ Eigen::Matrix<double, 6, 6> MeasuredInformation(const ViewConstraints& view,
   Eigen::Matrix<double, 6, 1> d;
   d << Eigen::Vector3d::Constant(view.depth.mean_depth), Eigen::Vector3d::Ones();
   const Matrix6d scaled = d.asDiagonal() * h * d.asDiagonal();
-  return (0.5 * (scaled + scaled.transpose())) / (prior_information * fusion_sigma * fusion_sigma);
+  return (0.5 * (scaled + scaled.transpose())) / (prior_information * prior_sigma * prior_sigma);
 }
 
 DepthOverlap MeasureDepthOverlap(const cv::Mat& source_depth, const cv::Mat& target_depth,

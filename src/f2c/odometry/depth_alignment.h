@@ -158,15 +158,15 @@ Rigid3d FusePhotometric(const Rigid3d& refined, const Rigid3d& fused, const View
 // D (H + prior_information I) D / (prior_information prior_sigma^2), D = diag(L, L, L, 1, 1,
 // 1), in (w radians, v metres). A direction the depth measures with eigenvalue lambda is
 // known lambda / prior_information times better than the prior, as the fusion weighed it.
-// That prior is fusion_sigma's (0: prior_sigma): the measurements' scale. The prior of this
-// pair may be worse, prior_sigma > fusion_sigma, where it was taken from answers that
-// themselves repeated an older prior (a run of ICP fallbacks on a plain wall: the velocity
-// along the wall stays what it was when the run began, and its error grows with the run);
-// the prior's own term is then I / prior_sigma^2, H's stays H / (prior_information
-// fusion_sigma^2).
+// The prior of this pair may be worse than prior_sigma, by prior_widening (>= 1), where it
+// was taken from answers that themselves repeated an older prior (a run of ICP fallbacks on a
+// plain wall: the velocity along the wall stays what it was when the run began, and its
+// error grows with the run); the prior's own term is then I / (prior_widening prior_sigma)^2,
+// H's stays H / (prior_information prior_sigma^2).
 Eigen::Matrix<double, 6, 6> MeasuredInformation(const ViewConstraints& view,
                                                 const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions,
-                                                double prior_information, double prior_sigma, double fusion_sigma = 0);
+                                                double prior_information, double prior_sigma,
+                                                double prior_widening = 1);
 
 struct DepthOverlap {
   double fitness = 0;  // fraction of valid source samples within `threshold` of the target's surface

@@ -159,8 +159,8 @@ void ApplyFallback(const FrameImages& prev, const FrameImages& curr, const Camer
       icp.method = AlignmentMethod::kIcp;
       ScoreOverlap(prev.depth, curr.depth, k, options, clock, &icp);
       if (analysed && analysed->depth.samples > 0) {
-        icp.information = MeasuredInformation(*analysed, refined_along, o.prior_information,
-                                              o.prior_sigma * (1.0 + o.prior_sigma_growth * prior_age), o.prior_sigma);
+        icp.information = MeasuredInformation(*analysed, refined_along, o.prior_information, o.prior_sigma,
+                                              1.0 + o.prior_sigma_growth * prior_age);
       }
       if (best.method == AlignmentMethod::kMotionPrior || icp.fitness > best.fitness) best = icp;
     }

@@ -14,7 +14,7 @@ namespace {
 
 // Bumped whenever a pair's answer changes for the same options (3: the photometric step also
 // refines the directions the image measures better than the depth; 4: SIFT and tracked pairs
-// carry their information; 5: so do ICP fallbacks).
+// carry their information; 5: so do ICP fallbacks; 6: with their prior widened by its age).
 constexpr int kCacheVersion = 6;
 
 }  // namespace
