@@ -58,10 +58,12 @@ std::vector<FeatureCorrespondence> FindCorrespondences(const std::vector<FramePa
                                                 const CorrespondenceOptions& options, CorrespondenceStats* stats) {
   options.Check();
   const int n = static_cast<int>(poses.size());
+  const int64_t per_frame =
+      schedule.Polishing(iteration) && options.polish_per_frame > 0 ? options.polish_per_frame : options.per_frame;
   const int share =
       pairs.empty() ? 0
                     : std::max<int>(options.min_per_pair,
-                                    static_cast<int>((static_cast<int64_t>(options.per_frame) * n + pairs.size() - 1) /
+                                    static_cast<int>((per_frame * n + pairs.size() - 1) /
                                                      pairs.size()));
   std::vector<std::vector<FeatureCorrespondence>> found(pairs.size());
   std::vector<int64_t> tried(pairs.size(), 0);

@@ -14,7 +14,8 @@
 // (polish_max_distance, polish_max_angle_deg).
 //
 // The total is subsampled to |C| = per_frame n (the paper: 100 n), spread evenly over the
-// pairs (half of each pair's share from each side), with seeded, deterministic sampling.
+// pairs (half of each pair's share from each side), with seeded, deterministic sampling; in
+// the polish iterations to polish_per_frame n.
 
 #include <array>
 #include <nlohmann/json_fwd.hpp>
@@ -54,6 +55,11 @@ struct CorrespondenceOptions {
   ThresholdSchedule schedule = ThresholdSchedule::kAge;
   PairNormal pair_normal = PairNormal::kTarget;
   int per_frame = 100;    // |C| = per_frame n per iteration
+  // Beyond the paper: |C| of the polish iterations (0: per_frame). Each iteration draws its
+  // own sample, so the poses carry that sample's noise: with 100 n, the polish iterations
+  // move every pose by about 0.1 deg RMS from one to the next without converging
+  // (BENCHMARKS.md, "Thirty-first stop"); more correspondences there average it away.
+  int polish_per_frame = 600;
   int min_per_pair = 6;   // a pair's share is never below this (then |C| exceeds per_frame n)
   double attempts = 3.0;  // features tried per correspondence wanted
   int neighbours = 4;     // closest features checked for compatibility, nearest first
@@ -80,6 +86,8 @@ struct CorrespondenceOptions {
     F2C_FIELD(v, pair_normal, "--pair-normal", {},
               "normal of a plane correspondence: target (the paper) or mean (of both features', symmetric)");
     F2C_FIELD(v, per_frame, "--correspondences-per-frame", AtLeast(1), "|C| = this times the frames, per iteration");
+    F2C_FIELD(v, polish_per_frame, "--polish-correspondences-per-frame", AtLeast(0),
+              "|C| of the polish iterations, times the frames (0: --correspondences-per-frame)");
     F2C_FIELD(v, min_per_pair, "--min-correspondences-per-pair", AtLeast(1), "each pair's share at least this");
     F2C_FIELD(v, attempts, "", AtLeast(1), "features tried per correspondence wanted");
     F2C_FIELD(v, neighbours, "", Between(1, 64), "closest features checked for compatibility");

@@ -174,5 +174,28 @@ TEST(FindCorrespondences, BudgetIsSpreadOverPairsWithAFloor) {
   EXPECT_EQ(c.size(), 8u);
 }
 
+TEST(FindCorrespondences, PolishIterationsDrawTheirOwnBudget) {
+  TwoFrames t = MakeTwoFrames(Eigen::Vector3f::Zero());
+  WindowOptions w = NoPolish();
+  w.polish_iterations = 2;
+  const WindowSchedule schedule{w, {0.0, 0.1}};
+  const int last = schedule.iterations() - 1;
+  ASSERT_TRUE(schedule.Polishing(last));
+  ASSERT_FALSE(schedule.Polishing(0));
+  CorrespondenceOptions o;
+  o.per_frame = 5;          // 10 for 2 frames over 1 pair
+  o.polish_per_frame = 15;  // 30 in the polish iterations
+  o.min_per_pair = 1;
+  auto per_pair = [&](int iteration) {
+    CorrespondenceStats stats;
+    FindCorrespondences({{0, 1, 1.0f}}, t.index, t.poses, schedule, iteration, {0.0, 0.1}, o, &stats);
+    return stats.per_pair;
+  };
+  EXPECT_EQ(per_pair(0), 10);
+  EXPECT_EQ(per_pair(last), 30);
+  o.polish_per_frame = 0;  // as the other iterations
+  EXPECT_EQ(per_pair(last), 10);
+}
+
 }  // namespace
 }  // namespace f2c

@@ -105,6 +105,7 @@ struct ExactRoom {
     options.structure = false;
     options.correspondences.type_weights[static_cast<int>(FeatureType::kSilhouette)] = 0;
     options.correspondences.per_frame = 300;
+    options.correspondences.polish_per_frame = 0;  // the same 300 n in the polish iterations
   }
   RefineResult Refine() const {
     RefineRun run;
