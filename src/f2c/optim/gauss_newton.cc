@@ -140,6 +140,16 @@ class Pattern {
     }
   }
 
+  // H's diagonal, and setting it (each column's entry on its own row).
+  Eigen::VectorXd Diagonal() const {
+    Eigen::VectorXd d(static_cast<int>(column_pointers_.size()) - 1);
+    for (int c = 0; c < d.size(); ++c) d[c] = values_[DiagonalIndex(c)];
+    return d;
+  }
+  void SetDiagonal(const Eigen::VectorXd& d) {
+    for (int c = 0; c < d.size(); ++c) values_[DiagonalIndex(c)] = d[c];
+  }
+
   // y = H x, H symmetric from its upper triangle.
   Eigen::VectorXd Multiply(const Eigen::VectorXd& x) const {
     Eigen::VectorXd y = Eigen::VectorXd::Zero(x.size());
@@ -191,6 +201,12 @@ class Pattern {
   std::vector<double>& values() { return values_; }
 
  private:
+  // Rows within a column ascend (block rows in order, each block's rows in order).
+  size_t DiagonalIndex(int c) const {
+    const auto first = row_indices_.begin() + column_pointers_[c], last = row_indices_.begin() + column_pointers_[c + 1];
+    return static_cast<size_t>(std::lower_bound(first, last, c) - row_indices_.begin());
+  }
+
   const std::vector<int>& start_;
   const std::vector<int>& tangent_;
   std::vector<std::vector<int>> rows_;     // per block column: its block rows, sorted
@@ -482,27 +498,50 @@ GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidu
       summary.termination = "the normal equations are not positive definite";
       return summary;
     }
-    const double model_decrease = -(g.dot(step) + 0.5 * step.dot(h.Multiply(step)));
-    // The step, each variable on its manifold; the old values kept to go back to.
+    // Tries `step` (each variable on its manifold): kept if the cost falls by enough of what
+    // the undamped model predicts, else the variables go back to where they were.
     std::vector<std::vector<double>> saved(nv);
-    for (int v = 0; v < nv; ++v) {
-      const Variable& var = variables_[v];
-      if (var.constant) continue;
-      saved[v].assign(var.x, var.x + var.size);
-      const double* delta = step.data() + start[v];
-      if (var.manifold != nullptr) {
-        var.manifold->Plus(saved[v].data(), delta, var.x);
-      } else {
-        for (int k = 0; k < var.size; ++k) var.x[k] = saved[v][k] + delta[k];
+    double new_cost = 0;
+    auto try_step = [&](const Eigen::VectorXd& d) {
+      const double model_decrease = -(g.dot(d) + 0.5 * d.dot(h.Multiply(d)));
+      for (int v = 0; v < nv; ++v) {
+        const Variable& var = variables_[v];
+        if (var.constant) continue;
+        saved[v].assign(var.x, var.x + var.size);
+        const double* delta = d.data() + start[v];
+        if (var.manifold != nullptr) {
+          var.manifold->Plus(saved[v].data(), delta, var.x);
+        } else {
+          for (int k = 0; k < var.size; ++k) var.x[k] = saved[v][k] + delta[k];
+        }
       }
-    }
-    bool new_ok = true;
-    const double new_cost = total_cost(&new_ok);
-    const double decrease = summary.final_cost - new_cost;
-    if (!new_ok || model_decrease <= 0 || decrease / model_decrease < options.min_relative_decrease) {
+      bool new_ok = true;
+      new_cost = total_cost(&new_ok);
+      const double decrease = summary.final_cost - new_cost;
+      if (new_ok && model_decrease > 0 && decrease / model_decrease >= options.min_relative_decrease) return true;
       for (int v = 0; v < nv; ++v) {
         if (!saved[v].empty()) std::copy(saved[v].begin(), saved[v].end(), variables_[v].x);
       }
+      return false;
+    };
+    bool kept = try_step(step);
+    // Damped retries (Levenberg-Marquardt): H + lambda D, D = diag(H) clamped as Ceres does,
+    // lambda growing from initial_damping by damping_increase. The same pattern, so only
+    // the numeric factorization is repeated; H itself is restored after each solve.
+    if (!kept && options.max_damped_steps > 0) {
+      const Eigen::VectorXd diagonal = h.Diagonal();
+      const Eigen::VectorXd scaling = diagonal.cwiseMax(1e-6).cwiseMin(1e32);
+      double lambda = options.initial_damping;
+      for (int k = 0; k < options.max_damped_steps && !kept; ++k, lambda *= options.damping_increase) {
+        h.SetDiagonal(diagonal + lambda * scaling);
+        const bool damped_solved = cholesky.Solve(&h, -g, &step);
+        h.SetDiagonal(diagonal);
+        ++summary.damped;
+        if (!damped_solved) break;
+        kept = try_step(step);
+      }
+    }
+    if (!kept) {
       summary.termination = "step rejected";
       return summary;
     }

@@ -14,8 +14,9 @@
 // PlusJacobian, the step applied by its Plus), residuals under a loss corrected as Ceres does
 // (Triggs et al.: the residual and Jacobian scaled by sqrt(rho'), with the curvature term
 // where rho'' > 0), and the step kept only if the cost falls by at least
-// `min_relative_decrease` of what the linear model predicts; otherwise the variables stay as
-// they were. The blocks are linearised in parallel into one buffer, each into its own slot,
+// `min_relative_decrease` of what the linear model predicts; otherwise it is retried with
+// Levenberg-Marquardt's damping (max_damped_steps), and where none passes the variables stay
+// as they were. The blocks are linearised in parallel into one buffer, each into its own slot,
 // and each variable's columns of J^T J and J^T r are summed in parallel (the columns are
 // disjoint), every entry over its blocks in their order, so the result does not depend on
 // the number of threads. The pattern and the symbolic analysis, which need no values, are
@@ -44,6 +45,18 @@ struct GaussNewtonOptions {
   // A step is kept if (cost - new cost) / (the model's predicted decrease) exceeds this
   // (Ceres' default).
   double min_relative_decrease = 1e-3;
+  // A rejected step is retried this many times, damped as Levenberg-Marquardt damps it
+  // (H + lambda diag(H), lambda = initial_damping, then times damping_increase), before the
+  // variables are left where they were. Why: the undamped step can run far along a
+  // direction little holds (a gauge held only by a weak E_I; a plane that barely moves its
+  // residuals), where the linear model no longer holds and the cost rises; a damped step
+  // still makes progress in the directions that are well held. 0: no retry. Measured: no
+  // step of the refinement's walks or real sequences is rejected (BENCHMARKS.md,
+  // thirty-second stop), so they run as before; refine_test's exact room with w_I 1e-9 and
+  // frame 0 free, whose every step after the first was rejected, converges.
+  int max_damped_steps = 4;
+  double initial_damping = 1e-3;
+  double damping_increase = 10;
   // CHOLMOD's fill-reducing ordering: AMD, or CHOLMOD's nested dissection (METIS) on the
   // graph of the blocks, each block's columns kept together. Measured (BENCHMARKS.md,
   // seventeenth stop), analysis and factorization together: the same at 900 frames, and
@@ -58,6 +71,7 @@ struct GaussNewtonSummary {
   double final_cost = 0;
   int iterations = 0;  // steps tried
   int accepted = 0;    // steps kept
+  int damped = 0;      // damped retries of rejected steps (each one more factorization)
   // False where the normal equations were not positive definite (a direction nothing
   // constrains): nothing moved, and the caller may solve another way.
   bool factorized = true;

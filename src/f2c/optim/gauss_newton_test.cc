@@ -184,9 +184,12 @@ TEST(GaussNewton, AStepThatRaisesTheCostIsUndone) {
   std::unique_ptr<ceres::CostFunction> cost(new ceres::AutoDiffCostFunction<Arctan, 1, 1>(new Arctan));
   GaussNewtonProblem problem;
   problem.AddVariable(&x, 1, nullptr, false);
-  const GaussNewtonSummary s = problem.Solve({{cost.get(), nullptr, {&x}}}, GaussNewtonOptions{});
+  GaussNewtonOptions undamped;
+  undamped.max_damped_steps = 0;
+  const GaussNewtonSummary s = problem.Solve({{cost.get(), nullptr, {&x}}}, undamped);
   EXPECT_EQ(s.iterations, 1);
   EXPECT_EQ(s.accepted, 0);
+  EXPECT_EQ(s.damped, 0);
   EXPECT_EQ(s.termination, "step rejected");
   EXPECT_EQ(x, 2);
   EXPECT_NEAR(s.final_cost, 0.5 * std::atan(2.0) * std::atan(2.0), 1e-15);
@@ -194,9 +197,37 @@ TEST(GaussNewton, AStepThatRaisesTheCostIsUndone) {
   x = 0.5;
   GaussNewtonOptions more;
   more.max_iterations = 10;
+  more.max_damped_steps = 0;
   const GaussNewtonSummary t = problem.Solve({{cost.get(), nullptr, {&x}}}, more);
   EXPECT_GE(t.accepted, 2);
   EXPECT_NEAR(x, 0, 1e-9);
+}
+
+// The same overshoot, retried with Levenberg-Marquardt's damping: the step -r / J = -5 atan(2)
+// becomes -5 atan(2) / (1 + lambda); lambda 0.001, 0.01 and 0.1 still land beyond -2.9, where
+// the cost is higher, and lambda 1 halves the step, to -0.77: kept.
+TEST(GaussNewton, ARejectedStepIsRetriedDamped) {
+  double x = 2;
+  std::unique_ptr<ceres::CostFunction> cost(new ceres::AutoDiffCostFunction<Arctan, 1, 1>(new Arctan));
+  GaussNewtonProblem problem;
+  problem.AddVariable(&x, 1, nullptr, false);
+  const GaussNewtonSummary s = problem.Solve({{cost.get(), nullptr, {&x}}}, GaussNewtonOptions{});
+  EXPECT_EQ(s.iterations, 1);
+  EXPECT_EQ(s.accepted, 1);
+  EXPECT_EQ(s.damped, 4);
+  EXPECT_EQ(s.termination, "iteration limit");
+  EXPECT_NEAR(x, 2 - 0.5 * 5 * std::atan(2.0), 1e-12);
+  EXPECT_NEAR(s.final_cost, 0.5 * std::atan(x) * std::atan(x), 1e-15);
+  EXPECT_LT(s.final_cost, s.initial_cost);
+  // Three retries stop short of lambda 1: nothing moves.
+  x = 2;
+  GaussNewtonOptions three;
+  three.max_damped_steps = 3;
+  const GaussNewtonSummary t = problem.Solve({{cost.get(), nullptr, {&x}}}, three);
+  EXPECT_EQ(t.accepted, 0);
+  EXPECT_EQ(t.damped, 3);
+  EXPECT_EQ(t.termination, "step rejected");
+  EXPECT_EQ(x, 2);
 }
 
 TEST(GaussNewton, AFreeDirectionIsReportedAndNothingMoves) {

@@ -469,6 +469,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       planes.ordering = GaussNewtonOptions::Ordering::kAmd;
       const GaussNewtonSummary s = pp.SolveGaussNewton(true, planes);
       summary.plane_presolve_iterations = s.iterations;
+      summary.damped_steps += s.damped;
       done = s.factorized;
     }
     if (!done) {
@@ -485,6 +486,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
     const GaussNewtonSummary s = pp.SolveGaussNewton(false, step);
     solved = s.factorized;
     summary.iterations = s.iterations;
+    summary.damped_steps += s.damped;
     summary.termination = s.termination;
     summary.usable = true;  // a rejected step leaves the poses as they were
   }
@@ -524,7 +526,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
 nlohmann::json ToJson(const SolveSummary& s) {
   return {{"cost_before", s.cost_before}, {"cost_after", s.cost_after}, {"residual_blocks", s.residual_blocks},
           {"iterations", s.iterations}, {"linear_iterations", s.linear_iterations},
-          {"plane_presolve_iterations", s.plane_presolve_iterations},
+          {"plane_presolve_iterations", s.plane_presolve_iterations}, {"damped_steps", s.damped_steps},
           {"termination", s.termination}, {"usable", s.usable},
           {"seconds", s.seconds}};
 }

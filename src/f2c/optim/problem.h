@@ -182,6 +182,7 @@ struct SolveSummary {
   bool usable = false;
   int linear_iterations = 0;  // conjugate-gradient iterations, summed (iterative solver)
   int plane_presolve_iterations = 0;
+  int damped_steps = 0;  // our solver's damped retries of rejected steps, presolve and step
   double seconds = 0;
 };
 
