@@ -60,6 +60,9 @@ struct SteadyMotionConstraint {
   double scale_ab = 1;
   double scale_bc = 1;
   double weight = 1;  // relative to the other triples (refine/steady_motion.h)
+  // False where one of its odometry pairs left directions to the motion prior: there E_V is
+  // the only measurement of those directions (SolverOptions::measured_velocity_loss_scale).
+  bool measured = true;
 };
 
 // E_M (beyond the paper): a SIFT match between two frames the refinement re-matched (a loop

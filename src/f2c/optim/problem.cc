@@ -336,7 +336,12 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
     Pose& pc = (*poses)[v.frame_c];
     std::vector<double*> b{pa.rotation_data(), pa.translation_data(), pb.rotation_data(),
                            pb.translation_data(), pc.rotation_data(), pc.translation_data()};
-    const auto [s, loss] = pp.Weigh(w_v * v.weight, options.velocity_loss_scale, kTermV);
+    double scale = options.velocity_loss_scale;
+    if (v.measured && options.measured_velocity_loss_scale > 0 &&
+        (scale == 0 || options.measured_velocity_loss_scale < scale)) {
+      scale = options.measured_velocity_loss_scale;
+    }
+    const auto [s, loss] = pp.Weigh(w_v * v.weight, scale, kTermV);
     pp.Add(kTermV, SteadyMotionCost::Create(v.scale_ab, v.scale_bc, s, s * options.rotation_lever_arm), loss,
            std::move(b));
   }

@@ -31,7 +31,7 @@ std::vector<SteadyMotionConstraint> SteadyMotionConstraints(const std::vector<do
     const double bc = timestamps[k + 1] - timestamps[k];
     if (!usable(ab) || !usable(bc)) continue;
     const bool prior = !unmeasured.empty() && (unmeasured[k] || unmeasured[k + 1]);
-    out.push_back({k - 1, k, k + 1, unit / ab, unit / bc, prior ? options.unmeasured_weight : 1.0});
+    out.push_back({k - 1, k, k + 1, unit / ab, unit / bc, prior ? options.unmeasured_weight : 1.0, !prior});
   }
   return out;
 }

@@ -39,7 +39,7 @@ TEST(SteadyMotionConstraints, ScalesByTheIntervalsAndBreaksAtGaps) {
 }
 
 // A triple that contains a pair the odometry left to the motion prior weighs
-// unmeasured_weight; the others 1.
+// unmeasured_weight and is not `measured`; the others weigh 1 and are.
 TEST(SteadyMotionConstraints, WeighsTriplesOverPairsLeftToThePrior) {
   const std::vector<double> t = {0, 1, 2, 3, 4, 5};
   const std::vector<char> unmeasured = {0, 0, 0, 1, 0, 0};  // frame 3's pair
@@ -48,8 +48,14 @@ TEST(SteadyMotionConstraints, WeighsTriplesOverPairsLeftToThePrior) {
   const std::vector<SteadyMotionConstraint> c = SteadyMotionConstraints(t, o, unmeasured);
   ASSERT_EQ(c.size(), 4u);
   const double expected[4] = {1, 3, 3, 1};  // centred on frames 1, 2, 3, 4
-  for (int i = 0; i < 4; ++i) EXPECT_EQ(c[i].weight, expected[i]) << i;
-  for (const SteadyMotionConstraint& v : SteadyMotionConstraints(t, o)) EXPECT_EQ(v.weight, 1);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(c[i].weight, expected[i]) << i;
+    EXPECT_EQ(c[i].measured, expected[i] == 1) << i;
+  }
+  for (const SteadyMotionConstraint& v : SteadyMotionConstraints(t, o)) {
+    EXPECT_EQ(v.weight, 1);
+    EXPECT_TRUE(v.measured);
+  }
   EXPECT_THROW(SteadyMotionConstraints(t, o, {0, 1}), std::logic_error);
 }
 
