@@ -38,6 +38,10 @@ constexpr const char* kTermP = "E_P";
 constexpr const char* kTermH = "E_H";
 constexpr const char* kTermG = "E_G";
 
+// A term's Cauchy scale where some of its constraints have a scale of their own (0: none):
+// the tighter of the two holds for those.
+double TighterLossScale(double scale, double own) { return own > 0 && (scale == 0 || own < scale) ? own : scale; }
+
 // A plane variable: one block (normal, offset), the offset from `reference` (optim/
 // structure_costs.h): {x : normal . (x - reference) = offset}.
 struct PlaneVariable {
@@ -309,12 +313,9 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   for (const RelativePoseConstraint& l : local) {
     if (options.weight_local == 0 || sum_l <= 0) break;
     F2C_CHECK(l.frame_a >= 0 && l.frame_a < n && l.frame_b >= 0 && l.frame_b < n, "local frames in range");
-    double scale = options.local_loss_scale;
     const bool weak = options.measured_local_loss_max_inliers == 0 || l.weakest_inliers < options.measured_local_loss_max_inliers;
-    if (l.measured && weak && options.measured_local_loss_scale > 0 &&
-        (scale == 0 || options.measured_local_loss_scale < scale)) {
-      scale = options.measured_local_loss_scale;
-    }
+    const double scale = l.measured && weak ? TighterLossScale(options.local_loss_scale, options.measured_local_loss_scale)
+                                            : options.local_loss_scale;
     const auto [s, loss] = pp.Weigh(options.weight_local * l.weight / sum_l, scale, kTermL);
     ceres::CostFunction* cost =
         l.whitened()
@@ -336,11 +337,8 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
     Pose& pc = (*poses)[v.frame_c];
     std::vector<double*> b{pa.rotation_data(), pa.translation_data(), pb.rotation_data(),
                            pb.translation_data(), pc.rotation_data(), pc.translation_data()};
-    double scale = options.velocity_loss_scale;
-    if (v.measured && options.measured_velocity_loss_scale > 0 &&
-        (scale == 0 || options.measured_velocity_loss_scale < scale)) {
-      scale = options.measured_velocity_loss_scale;
-    }
+    const double scale = v.measured ? TighterLossScale(options.velocity_loss_scale, options.measured_velocity_loss_scale)
+                                    : options.velocity_loss_scale;
     const auto [s, loss] = pp.Weigh(w_v * v.weight, scale, kTermV);
     pp.Add(kTermV, SteadyMotionCost::Create(v.scale_ab, v.scale_bc, s, s * options.rotation_lever_arm), loss,
            std::move(b));
