@@ -498,16 +498,19 @@ GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidu
       summary.termination = "the normal equations are not positive definite";
       return summary;
     }
-    // Tries `step` (each variable on its manifold): kept if the cost falls by enough of what
-    // the undamped model predicts, else the variables go back to where they were.
+    // The old values, to step from and to go back to.
     std::vector<std::vector<double>> saved(nv);
+    for (int v = 0; v < nv; ++v) {
+      if (!variables_[v].constant) saved[v].assign(variables_[v].x, variables_[v].x + variables_[v].size);
+    }
+    // Tries `d` (each variable on its manifold): kept if the cost falls by enough of what the
+    // undamped model predicts, else the variables go back to where they were.
     double new_cost = 0;
     auto try_step = [&](const Eigen::VectorXd& d) {
       const double model_decrease = -(g.dot(d) + 0.5 * d.dot(h.Multiply(d)));
       for (int v = 0; v < nv; ++v) {
         const Variable& var = variables_[v];
         if (var.constant) continue;
-        saved[v].assign(var.x, var.x + var.size);
         const double* delta = d.data() + start[v];
         if (var.manifold != nullptr) {
           var.manifold->Plus(saved[v].data(), delta, var.x);
