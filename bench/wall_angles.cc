@@ -11,9 +11,18 @@
 // cache/features.f2cf for it; ESTIMATE: a TUM trajectory. Walls are floor-plan segments
 // (metres, the simulator's world frame: z up). Prints, for every two walls, the true and the
 // estimated angle between their planes (0-90 degrees) and how many proxies each had.
+//
+// After the angles, the proxies' own error on each wall: the mean signed turn of their
+// normals about the vertical, placed by the true pose, from the wall's (degrees), for the
+// views that see the wall from one side (the ray to the proxy's centre more than 0.2 along
+// the wall, one way or the other) and from straight on; first the proxies' least-squares
+// planes, then their planes without the estimated depth noise (PlanarProxy::noise, as the
+// structural model's children take them). Depth noise along the rays turns a least-squares
+// plane towards them, so the two sides differ in sign.
 
 #include <fmt/format.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
@@ -34,6 +43,10 @@ struct Wall {
   Eigen::Vector2d a, b;
   Eigen::Vector3d true_sum = Eigen::Vector3d::Zero(), estimated_sum = Eigen::Vector3d::Zero();
   int proxies = 0;
+  // The proxies' turn from the wall under the true pose (radians), by plane (least squares,
+  // without the noise) and view (ray along the wall < -0.2, within +-0.2, > 0.2).
+  double turn_sum[2][3] = {{0, 0, 0}, {0, 0, 0}};
+  int turn_count[3] = {0, 0, 0};
 };
 
 // Whether a proxy (world normal and centroid under the true pose) lies on the wall: normal
@@ -99,6 +112,19 @@ int Run(int argc, char** argv) {
       const Eigen::Vector3d c_true = g->second * p.centroid.cast<double>();
       for (Wall& w : walls) {
         if (!OnWall(w, n_true, c_true)) continue;
+        const Eigen::Vector2d d = (w.b - w.a).normalized();
+        const Eigen::Vector3d along(d.x(), d.y(), 0), across(-d.y(), d.x(), 0);
+        const double side = (c_true - g->second.translation()).normalized().dot(along);
+        const int view = side < -0.2 ? 0 : side > 0.2 ? 2 : 1;
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> spread(p.covariance - p.noise);
+        const Eigen::Vector3d n_clean = g->second.linear() * spread.eigenvectors().col(0).cast<double>();
+        const Eigen::Vector3d* normals[2] = {&n_true, &n_clean};
+        for (int k = 0; k < 2; ++k) {
+          // atan2(n . along, |n . across|): the turn towards `along`, whichever way n faces.
+          const Eigen::Vector3d& n = *normals[k];
+          w.turn_sum[k][view] += std::atan2(n.dot(along) * (n.dot(across) < 0 ? -1 : 1), std::abs(n.dot(across)));
+        }
+        w.turn_count[view]++;
         w.true_sum += p.inliers * n_true;
         w.estimated_sum += p.inliers * (e->second.linear() * p.normal.cast<double>());
         w.proxies++;
@@ -116,6 +142,20 @@ int Run(int argc, char** argv) {
       const double t = PlaneAngle(a.true_sum, b.true_sum), est = PlaneAngle(a.estimated_sum, b.estimated_sum);
       std::printf("%-24s %8.2f %8.2f %+8.2f %4d/%d\n", (a.name + "/" + b.name).c_str(), t, est, est - t, a.proxies,
                   b.proxies);
+    }
+  }
+  std::printf("\n%-24s %24s %24s %24s\n", "proxy turn", "seen from a (deg, n)", "straight on", "seen from b");
+  for (int k = 0; k < 2; ++k) {
+    for (const Wall& w : walls) {
+      std::printf("%-24s", (w.name + (k == 0 ? " least squares" : " without noise")).c_str());
+      for (int view = 0; view < 3; ++view) {
+        if (w.turn_count[view] == 0) {
+          std::printf(" %24s", "-");
+        } else {
+          std::printf(" %17.3f %6d", w.turn_sum[k][view] / w.turn_count[view] * 180 / M_PI, w.turn_count[view]);
+        }
+      }
+      std::printf("\n");
     }
   }
   return 0;

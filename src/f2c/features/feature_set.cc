@@ -25,7 +25,7 @@ namespace f2c {
 namespace {
 
 constexpr char kMagic[8] = {'F', '2', 'C', 'F', 'E', 'A', 'T', '\0'};
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion = 2;  // 2: proxies' noise covariance
 
 class Writer {
  public:
@@ -83,7 +83,7 @@ class Reader {
   size_t at_ = 0;
 };
 
-constexpr size_t kProxyBytes = 4 * (3 + 1 + 3 + 6 + 2 + 1) + 4;
+constexpr size_t kProxyBytes = 4 * (3 + 1 + 3 + 6 + 6 + 2 + 1) + 4;
 constexpr size_t kFeatureBytes = 1 + 4 * (3 + 3 + 1) + 4 + 4 * 2;
 
 void PutFrame(Writer& w, const FrameFeatures& f) {
@@ -94,9 +94,10 @@ void PutFrame(Writer& w, const FrameFeatures& f) {
     w.PutFloats(p.normal.data(), 3);
     w.Put(p.offset);
     w.PutFloats(p.centroid.data(), 3);
-    const Eigen::Matrix3f& c = p.covariance;
-    const float cov[6] = {c(0, 0), c(0, 1), c(0, 2), c(1, 1), c(1, 2), c(2, 2)};
-    w.PutFloats(cov, 6);
+    for (const Eigen::Matrix3f* c : {&p.covariance, &p.noise}) {
+      const float upper[6] = {(*c)(0, 0), (*c)(0, 1), (*c)(0, 2), (*c)(1, 1), (*c)(1, 2), (*c)(2, 2)};
+      w.PutFloats(upper, 6);
+    }
     w.PutFloats(p.extent.data(), 2);
     w.Put(p.rms);
     w.Put(p.inliers);
@@ -121,9 +122,11 @@ FrameFeatures GetFrame(Reader& r, const std::filesystem::path& path) {
     r.GetFloats(p.normal.data(), 3);
     p.offset = r.Get<float>();
     r.GetFloats(p.centroid.data(), 3);
-    float cov[6];
-    r.GetFloats(cov, 6);
-    p.covariance << cov[0], cov[1], cov[2], cov[1], cov[3], cov[4], cov[2], cov[4], cov[5];
+    for (Eigen::Matrix3f* c : {&p.covariance, &p.noise}) {
+      float u[6];
+      r.GetFloats(u, 6);
+      *c << u[0], u[1], u[2], u[1], u[3], u[4], u[2], u[4], u[5];
+    }
     r.GetFloats(p.extent.data(), 2);
     p.rms = r.Get<float>();
     p.inliers = r.Get<int32_t>();

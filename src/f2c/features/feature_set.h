@@ -2,11 +2,12 @@
 // Features and proxies of a whole sequence, extracted in parallel over frames, and their
 // on-disk cache: a compact, versioned binary file (the authors cache theirs as .fcb).
 //
-// Cache format (little-endian), version 1:
+// Cache format (little-endian), version 2:
 //   "F2CFEAT\0"  u32 version  u64 context hash  u32 frames
 //   per frame:   u64 frame key  u16 note length, note bytes
 //                u32 proxies,  per proxy:   normal 3f, offset f, centroid 3f,
-//                                           covariance 6f (xx xy xz yy yz zz), extent 2f,
+//                                           covariance 6f (xx xy xz yy yz zz), noise 6f
+//                                           (the same), extent 2f,
 //                                           rms f, inliers i32
 //                u32 features, per feature: type u8, position 3f, direction 3f, salience f,
 //                                           proxy i32, pixel 2f

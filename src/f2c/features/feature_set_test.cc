@@ -43,6 +43,7 @@ void ExpectSameFeatures(const FrameFeatures& a, const FrameFeatures& b) {
     EXPECT_EQ(p.offset, q.offset);
     EXPECT_EQ(p.centroid, q.centroid);
     EXPECT_EQ(p.covariance, q.covariance);
+    EXPECT_EQ(p.noise, q.noise);
     EXPECT_EQ(p.extent, q.extent);
     EXPECT_EQ(p.rms, q.rms);
     EXPECT_EQ(p.inliers, q.inliers);
@@ -87,15 +88,15 @@ TEST(FeatureCache, BadFilesAreClearErrors) {
   const std::string bytes = ReadFileToString(dir / "good.f2cf");
   WriteFileAtomic(dir / "short.f2cf", bytes.substr(0, bytes.size() - 7));
   WriteFileAtomic(dir / "other.f2cf", "P6\n640 480\n255\n");
-  std::string v2 = bytes;
-  v2[8] = 2;
-  WriteFileAtomic(dir / "v2.f2cf", v2);
+  std::string v3 = bytes;
+  v3[8] = 3;
+  WriteFileAtomic(dir / "v3.f2cf", v3);
   uint64_t context = 0;
   auto message = [&](const fs::path& p) { return testing::InputErrorMessage([&] { ReadFeatureCache(p, &context); }); };
   EXPECT_EQ(message(dir / "short.f2cf"), (dir / "short.f2cf").string() + ": feature cache is truncated or corrupt");
   EXPECT_EQ(message(dir / "other.f2cf"), (dir / "other.f2cf").string() + ": not a fine2coarse feature cache");
-  EXPECT_EQ(message(dir / "v2.f2cf"),
-            (dir / "v2.f2cf").string() + ": feature cache version 2 (this build reads version 1)");
+  EXPECT_EQ(message(dir / "v3.f2cf"),
+            (dir / "v3.f2cf").string() + ": feature cache version 3 (this build reads version 2)");
 }
 
 TEST(ExtractFeatures, ReusesTheCacheFrameByFrameAndRecomputesWhatChanged) {

@@ -22,6 +22,15 @@ double NoiseBound(const PointGrid& g, int i, const ProxyOptions& o) {
   return o.flat_noise_ratio * (o.sensor_sigma_a + o.sensor_sigma_b * dz * dz);
 }
 
+// A member's depth-noise covariance: sigma(z) along its ray (depth z moves the point by
+// dz p / z), bearing_noise times its range across the ray.
+Eigen::Matrix3d PointNoise(const Eigen::Vector3d& p, const ProxyOptions& o) {
+  const double dz = p.z() - 0.4, sigma = o.sensor_sigma_a + o.sensor_sigma_b * dz * dz;
+  const Eigen::Vector3d ray = p / p.z();
+  const double range2 = p.squaredNorm(), across = o.bearing_noise * o.bearing_noise * range2;
+  return sigma * sigma * ray * ray.transpose() + across * (Eigen::Matrix3d::Identity() - p * p.transpose() / range2);
+}
+
 }  // namespace
 
 bool IsFlat(const PointGrid& g, int i, const ProxyOptions& o) {
@@ -145,7 +154,7 @@ ProxySegmentation ExtractProxies(const PointGrid& g, const ProxyOptions& o) {
 
   struct Fit {
     Eigen::Vector3d centroid, normal;
-    Eigen::Matrix3d covariance, axes;
+    Eigen::Matrix3d covariance, axes, noise = Eigen::Matrix3d::Zero();
     double rms;
   };
   auto fit = [&](const std::vector<int>& cells) {
@@ -165,6 +174,18 @@ ProxySegmentation ExtractProxies(const PointGrid& g, const ProxyOptions& o) {
     if (f.normal.dot(f.centroid) > 0) f.normal = -f.normal;
     f.rms = std::sqrt(std::max(0.0, eig.eigenvalues()(0)));
     return f;
+  };
+  // covariance = spread + mu N in expectation, and spread n = 0 for the true normal n, so mu
+  // is the smallest generalised eigenvalue of (covariance, N); covariance - mu N is then
+  // positive semi-definite, singular along that n.
+  const bool noisy = o.sensor_sigma_a > 0 || o.sensor_sigma_b > 0;
+  auto estimate_noise = [&](const std::vector<int>& cells, const Eigen::Matrix3d& covariance) {
+    Eigen::Matrix3d noise = Eigen::Matrix3d::Zero();
+    for (int i : cells) noise += PointNoise(g.points[i].cast<double>(), o);
+    noise /= cells.size();
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix3d> ges(covariance, noise, Eigen::EigenvaluesOnly);
+    if (ges.info() != Eigen::Success) return Eigen::Matrix3d::Zero().eval();
+    return (std::max(0.0, ges.eigenvalues()(0)) * noise).eval();
   };
 
   struct Result {
@@ -196,6 +217,7 @@ ProxySegmentation ExtractProxies(const PointGrid& g, const ProxyOptions& o) {
     // A proxy must span a surface, not a line of cells.
     const double width = std::sqrt(std::max(0.0, f.axes.col(1).dot(f.covariance * f.axes.col(1))));
     if (width < o.min_width) continue;
+    if (noisy) f.noise = estimate_noise(cells, f.covariance);
     results.push_back({f, std::move(cells)});
   }
   // Largest first; ties keep cell order (the order of the clusters' first cells).
@@ -211,6 +233,7 @@ ProxySegmentation ExtractProxies(const PointGrid& g, const ProxyOptions& o) {
     p.offset = static_cast<float>(r.fit.normal.dot(r.fit.centroid));
     p.centroid = r.fit.centroid.cast<float>();
     p.covariance = r.fit.covariance.cast<float>();
+    p.noise = r.fit.noise.cast<float>();
     p.rms = static_cast<float>(r.fit.rms);
     p.inliers = static_cast<int32_t>(r.cells.size());
     for (int i : r.cells) {

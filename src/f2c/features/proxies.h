@@ -46,6 +46,11 @@ struct ProxyOptions {
   // A proxy must be a surface, not a line of points: its second principal axis at least
   // this standard deviation (metres).
   double min_width = 0.01;
+  // Each proxy's depth-noise covariance (PlanarProxy::noise): the members' mean of sigma(z)^2
+  // along their rays (the model above) plus bearing_noise times the range across them,
+  // scaled to the proxy's own noise by the smallest mu of n^T Sigma n / n^T N n (Sigma the
+  // members' covariance). 0 where sigma(z) = 0.
+  double bearing_noise = 0.0015;  // radians (as the odometry's ray-aware RANSAC refit)
 
   template <class V>
   void Fields(V& v) {
@@ -65,6 +70,7 @@ struct ProxyOptions {
     F2C_FIELD(v, min_trim_sigma, "", Positive(), "trimming: smallest sigma (m)");
     F2C_FIELD(v, trim_iterations, "", AtLeast(0), "trimming rounds");
     F2C_FIELD(v, min_width, "", AtLeast(0), "narrowest proxy (m)");
+    F2C_FIELD(v, bearing_noise, "", Positive(), "a proxy's noise estimate: a point's noise across its ray (radians x range)");
   }
   void Check() const;  // InputError naming the field when out of range
 };
@@ -81,6 +87,12 @@ struct PlanarProxy {
   float offset = 0;                                  // the plane is {x : normal . x = offset}
   Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
   Eigen::Matrix3f covariance = Eigen::Matrix3f::Zero();  // of the member points (m^2)
+  // The part of `covariance` that is depth noise, estimated: mu N (ProxyOptions::bearing_noise).
+  // Noise along the rays turns the least-squares plane above towards them by about
+  // sigma^2 / lambda (lambda: the spread along the turn), up to degrees on distant, oblique
+  // walls; covariance - noise is the members' spread without it, whose smallest eigenvector
+  // is the plane without that turn (the structural model's E_P uses it, docs/refinement.md).
+  Eigen::Matrix3f noise = Eigen::Matrix3f::Zero();
   Eigen::Vector2f extent = Eigen::Vector2f::Zero();  // half-lengths along the in-plane principal axes (m)
   float rms = 0;                                     // RMS distance of the members to the plane (m)
   int32_t inliers = 0;                               // member cells

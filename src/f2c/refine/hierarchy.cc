@@ -1,5 +1,6 @@
 #include "f2c/refine/hierarchy.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <iterator>
@@ -215,6 +216,26 @@ std::vector<PlaneCluster> ClusterCoplanar(const std::vector<ClusterItem>& items,
   return result;
 }
 
+ChildProxy MakeChild(int frame, const PlanarProxy& p, bool remove_noise) {
+  ChildProxy c;
+  c.frame = frame;
+  c.normal = p.normal;
+  c.offset = p.offset;
+  c.centroid = p.centroid;
+  c.covariance = p.covariance;
+  c.share = static_cast<float>(p.inliers);
+  if (remove_noise && !p.noise.isZero()) {
+    // covariance - noise is positive semi-definite and singular along the noise-free normal
+    // (features/proxies.h); the plane goes through the same centroid.
+    c.covariance = p.covariance - p.noise;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> eig(c.covariance);
+    c.normal = eig.eigenvectors().col(0).normalized();
+    if (c.normal.dot(p.normal) < 0) c.normal = -c.normal;
+    c.offset = c.normal.dot(c.centroid);
+  }
+  return c;
+}
+
 ProxyHierarchy BuildProxyHierarchy(const WindowSchedule& schedule, int iteration, const FeatureIndex& index,
                                    const PoseVector& poses, const HierarchyOptions& options) {
   options.Check();
@@ -229,16 +250,10 @@ ProxyHierarchy BuildProxyHierarchy(const WindowSchedule& schedule, int iteration
     first_child[f] = static_cast<int>(s.children.size());
     const Rigid3d pose = poses[f].ToRigid();
     for (const PlanarProxy& p : index.frames[f]->proxies) {
-      ChildProxy c;
-      c.frame = f;
-      c.normal = p.normal;
-      c.offset = p.offset;
-      c.centroid = p.centroid;
-      c.covariance = p.covariance;
-      c.share = static_cast<float>(p.inliers);
+      const ChildProxy c = MakeChild(f, p, options.remove_proxy_noise);
       s.children.push_back(c);
       ClusterItem item;
-      item.normal = (pose.linear() * p.normal.cast<double>()).normalized();
+      item.normal = (pose.linear() * c.normal.cast<double>()).normalized();
       item.centroid = pose * p.centroid.cast<double>();
       item.weight = p.inliers;
       item.image = f;

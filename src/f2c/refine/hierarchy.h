@@ -56,6 +56,12 @@ struct HierarchyOptions {
   double agreement_scale = 0;
   double agreement_floor = 0.003;  // metres: the spread below which no child is singled out
   int agreement_min_children = 5;  // parents with fewer children keep every link whole
+  // Children's planes without the depth noise, beyond the paper: E_P on each proxy's
+  // covariance less its estimated noise (PlanarProxy::noise), and the child's plane the
+  // smallest eigenvector of that. A least-squares plane through depth that is noisy along the
+  // rays turns towards them, differently from each view, and E_H, asking all views of a wall
+  // to be one plane, then turns each frame by its view's turn (docs/refinement.md, E_P).
+  bool remove_proxy_noise = true;
 
   template <class V>
   void Fields(V& v) {
@@ -71,6 +77,8 @@ struct HierarchyOptions {
     F2C_FIELD(v, agreement_floor, "--coplanar-agreement-floor", Positive(), "...s at least this (m)");
     F2C_FIELD(v, agreement_min_children, "--coplanar-agreement-min-children", AtLeast(1),
               "...in parents of at least this many children");
+    F2C_FIELD(v, remove_proxy_noise, "--proxy-noise-removal,!--no-proxy-noise-removal", {},
+              "children's planes fitted without their estimated depth noise (off: the least-squares planes, turned towards the rays)");
   }
   void Check() const;  // InputError naming the option when out of range
 };
@@ -117,6 +125,10 @@ struct ProxyHierarchy {
   std::vector<std::vector<int>> child_parents;    // parents of each child (one per window)
   HierarchyStats stats;
 };
+
+// A frame's proxy as a child (camera coordinates), its share its inliers; with
+// `remove_noise`, its covariance less the proxy's noise and its plane that covariance's.
+ChildProxy MakeChild(int frame, const PlanarProxy& proxy, bool remove_noise);
 
 ProxyHierarchy BuildProxyHierarchy(const WindowSchedule& schedule, int iteration, const FeatureIndex& index,
                                    const PoseVector& poses, const HierarchyOptions& options);

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <cmath>
 #include <random>
 
@@ -274,6 +276,38 @@ TEST(ChildNormalSpread, WeightedRmsAngleUnderThePoses) {
   // Frame 1 turned 2 deg more about y (its child's tilt towards x grows): 4 deg off.
   poses[1].rotation = Eigen::AngleAxisd(2 * deg, Eigen::Vector3d::UnitY()) * poses[1].rotation;
   EXPECT_NEAR(ChildNormalSpreadDeg(s, poses), std::sqrt((1 + 3 * 16.0) / 4), 1e-4);
+}
+
+TEST(MakeChild, TheChildsPlaneIsTheProxysWithoutItsNoise) {
+  // A wall facing (0.6, 0, -0.8) through (1, 0, 4): its members spread 0.05 m^2 and 0.25 m^2
+  // across it, and depth noise of 3 cm along the ray to the centroid adds to that. The
+  // least-squares plane of the sum is turned towards the ray.
+  const Eigen::Vector3f n(0.6f, 0, -0.8f), centroid(1, 0, 4);
+  const Eigen::Vector3f u = Eigen::Vector3f::UnitY(), v = n.cross(u).normalized();
+  const Eigen::Vector3f ray = centroid.normalized();
+  PlanarProxy p;
+  p.noise = 0.03f * 0.03f * ray * ray.transpose();
+  p.covariance = 0.05f * v * v.transpose() + 0.25f * u * u.transpose() + p.noise;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> eig(p.covariance);
+  p.normal = eig.eigenvectors().col(0);
+  if (p.normal.dot(n) < 0) p.normal = -p.normal;
+  p.centroid = centroid;
+  p.offset = p.normal.dot(centroid);
+  p.inliers = 120;
+  ASSERT_GT(std::acos(std::min(1.0f, p.normal.dot(n))), 0.2 * M_PI / 180);  // turned by the noise
+
+  const ChildProxy clean = MakeChild(3, p, true);
+  EXPECT_EQ(clean.frame, 3);
+  EXPECT_EQ(clean.share, 120);
+  EXPECT_NEAR(clean.normal.dot(n), 1, 1e-6);
+  EXPECT_NEAR(clean.offset, n.dot(centroid), 1e-5);
+  EXPECT_EQ(clean.centroid, centroid);
+  EXPECT_LT((clean.covariance - (p.covariance - p.noise)).norm(), 1e-7);
+
+  const ChildProxy as_fitted = MakeChild(3, p, false);
+  EXPECT_EQ(as_fitted.normal, p.normal);
+  EXPECT_EQ(as_fitted.offset, p.offset);
+  EXPECT_EQ(as_fitted.covariance, p.covariance);
 }
 
 }  // namespace
