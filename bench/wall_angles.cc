@@ -22,7 +22,6 @@
 
 #include <fmt/format.h>
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
@@ -34,6 +33,7 @@
 #include "f2c/features/feature_set.h"
 #include "f2c/io/sequence.h"
 #include "f2c/io/trajectory.h"
+#include "f2c/refine/hierarchy.h"
 #include "f2c/util/error.h"
 
 namespace {
@@ -116,8 +116,7 @@ int Run(int argc, char** argv) {
         const Eigen::Vector3d along(d.x(), d.y(), 0), across(-d.y(), d.x(), 0);
         const double side = (c_true - g->second.translation()).normalized().dot(along);
         const int view = side < -0.2 ? 0 : side > 0.2 ? 2 : 1;
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> spread(p.covariance - p.noise);
-        const Eigen::Vector3d n_clean = g->second.linear() * spread.eigenvectors().col(0).cast<double>();
+        const Eigen::Vector3d n_clean = g->second.linear() * f2c::MakeChild(0, p, true).normal.cast<double>();
         const Eigen::Vector3d* normals[2] = {&n_true, &n_clean};
         for (int k = 0; k < 2; ++k) {
           // atan2(n . along, |n . across|): the turn towards `along`, whichever way n faces.
