@@ -69,6 +69,9 @@ TEST(FeatureCache, RoundTripsEveryField) {
   }
   entries.push_back({5, ExtractFrameFeatures(cv::Mat::zeros(480, 640, CV_32F), k, {})});  // a note, nothing else
   ASSERT_GT(entries[0].features.features.size(), 100u);
+  // Exact depth has no noise to estimate: give one proxy a noise covariance of its own.
+  ASSERT_FALSE(entries[0].features.proxies.empty());
+  entries[0].features.proxies[0].noise << 4e-6f, 1e-6f, -2e-6f, 1e-6f, 5e-6f, 3e-6f, -2e-6f, 3e-6f, 6e-6f;
   WriteFeatureCache(dir / "f.f2cf", 0xABCDEF, entries);
   uint64_t context = 0;
   const std::vector<FeatureCacheEntry> back = ReadFeatureCache(dir / "f.f2cf", &context);
