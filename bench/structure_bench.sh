@@ -12,6 +12,11 @@
 # apartment-square (6 deg off), 900 frames, seeds 0, 1, 2. The work dir keeps simulations and
 # caches between runs (default: a fresh temporary one); a first register run per dataset
 # fills the caches so that each row times the refinement alone.
+#
+# F2C_BENCH_REFINE_SEEDS: the refinement's seeds (--refine-seed; default "0") for the walks'
+# rows, one row each, labelled WALK/rSEED when there are several. The refinement samples its
+# correspondences, and one walk's worst drift moves by up to 0.1 deg from seed to seed
+# (BENCHMARKS.md), so a mean over several says more than one run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin="$(pwd)/${1:-build}/apps/fine2coarse"
@@ -20,6 +25,7 @@ mkdir -p "$work"
 [ -x "$bin" ] || { echo "error: $bin not found: run bash scripts/build.sh first" >&2; exit 1; }
 cp "$bin" "$work/fine2coarse.bin" && bin="$work/fine2coarse.bin"  # a rebuild meanwhile cannot change it
 data="$(pwd)/../shared/data"
+: > "$work/rows.tsv"
 
 variants=(
   "full|--structure"
@@ -34,9 +40,9 @@ row() {  # dataset_label dataset_dir out_dir variant_name args...
   shift 4
   "$bin" register "$dir" -o "$out" -q --no-mesh "$@" > "$out.log" 2>&1
   "$bin" evaluate --json --estimate "$out/trajectory.txt" --ground-truth "$dir" > "$out/eval.json"
-  /usr/bin/python3 - "$out" "$label" "$name" <<'PY'
+  /usr/bin/python3 - "$out" "$label" "$name" "$work/rows.tsv" <<'PY'
 import json, sys
-out, label, name = sys.argv[1:]
+out, label, name, rows = sys.argv[1:]
 e = json.load(open(out + "/eval.json"))
 r = json.load(open(out + "/run.json"))["stages"]["refine"]
 corr = e.get("correspondences", {}).get("distance_m", {}).get("rmse")
@@ -44,6 +50,8 @@ d = e["rotation_drift_deg"]
 print(f"{label:34s} {name:18s} {e['ate_m']['rmse']:8.4f} {corr if corr is not None else float('nan'):8.4f} "
       f"{d['max']:8.2f} {d['rmse']:8.3f} {r['ms_per_frame']:8.1f} {e['rotation_drift_p99_deg']:8.2f} "
       f"{e['rotation_drift_smoothed_deg']['max']:8.2f}", flush=True)
+with open(rows, "a") as f:
+    f.write(f"{label}\t{name}\t{e['ate_m']['rmse']}\t{corr if corr is not None else float('nan')}\t{d['max']}\t{d['rmse']}\t{r['ms_per_frame']}\n")
 PY
 }
 t0_row() {  # dataset_label dataset_dir out_dir
@@ -81,10 +89,31 @@ for scene in two-rooms apartment apartment-square; do
     out="$work/out-$scene-$seed"
     "$bin" register "$sim" -o "$out" -q --polish-iterations 0 --extra-iterations 0 > /dev/null 2>&1  # caches
     t0_row "$scene-$seed" "$sim" "$out"
+    refine_seeds=(${F2C_BENCH_REFINE_SEEDS:-0})
     for v in "${variants[@]}"; do
       IFS='|' read -r name args <<< "$v"
-      # shellcheck disable=SC2086
-      row "$scene-$seed" "$sim" "$out" "$name" $args
+      for r in "${refine_seeds[@]}"; do
+        label="$scene-$seed"
+        [ "${#refine_seeds[@]}" -gt 1 ] && label="$label/r$r"
+        # shellcheck disable=SC2086
+        row "$label" "$sim" "$out" "$name" $args --refine-seed "$r"
+      done
     done
   done
 done
+
+# Each walk scene's means over its walks (and refinement seeds), per variant.
+echo
+/usr/bin/python3 - "$work/rows.tsv" <<'PY'
+import collections, re, sys
+groups = collections.defaultdict(list)
+for line in open(sys.argv[1]):
+    label, name, *v = line.rstrip("\n").split("\t")
+    m = re.match(r"(two-rooms|apartment-square|apartment)-\d+", label)
+    if m: groups[(m.group(1), name)].append([float(x) for x in v])
+print(f"{'scene (mean)':34s} {'variant':18s} {'ATE m':>8s} {'corr m':>8s} {'drift^':>8s} {'driftRMS':>8s} {'ms/fr':>8s} {'runs':>8s} {'worst^':>8s}")
+for (scene, name), rows in groups.items():
+    mean = [sum(r[i] for r in rows) / len(rows) for i in range(5)]
+    print(f"{scene:34s} {name:18s} {mean[0]:8.4f} {mean[1]:8.4f} {mean[2]:8.3f} {mean[3]:8.3f} {mean[4]:8.1f} "
+          f"{len(rows):8d} {max(r[2] for r in rows):8.2f}")
+PY
