@@ -26,6 +26,7 @@ mkdir -p "$work"
 cp "$bin" "$work/fine2coarse.bin" && bin="$work/fine2coarse.bin"  # a rebuild meanwhile cannot change it
 data="$(pwd)/../shared/data"
 : > "$work/rows.tsv"
+read -r -a refine_seeds <<< "${F2C_BENCH_REFINE_SEEDS:-0}"
 
 variants=(
   "full|--structure"
@@ -89,7 +90,6 @@ for scene in two-rooms apartment apartment-square; do
     out="$work/out-$scene-$seed"
     "$bin" register "$sim" -o "$out" -q --polish-iterations 0 --extra-iterations 0 > /dev/null 2>&1  # caches
     t0_row "$scene-$seed" "$sim" "$out"
-    refine_seeds=(${F2C_BENCH_REFINE_SEEDS:-0})
     for v in "${variants[@]}"; do
       IFS='|' read -r name args <<< "$v"
       for r in "${refine_seeds[@]}"; do
