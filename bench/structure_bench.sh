@@ -19,6 +19,11 @@
 # (BENCHMARKS.md), so a mean over several says more than one run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+read -r -a refine_seeds <<< "${F2C_BENCH_REFINE_SEEDS:-0}"
+[ "${#refine_seeds[@]}" -gt 0 ] || { echo "error: F2C_BENCH_REFINE_SEEDS names no seed" >&2; exit 1; }
+for r in "${refine_seeds[@]}"; do
+  [[ "$r" =~ ^[0-9]+$ ]] || { echo "error: F2C_BENCH_REFINE_SEEDS: '$r' is not a seed (a non-negative integer)" >&2; exit 1; }
+done
 bin="$(pwd)/${1:-build}/apps/fine2coarse"
 work="${2:-$(mktemp -d)}"
 mkdir -p "$work"
@@ -26,7 +31,6 @@ mkdir -p "$work"
 cp "$bin" "$work/fine2coarse.bin" && bin="$work/fine2coarse.bin"  # a rebuild meanwhile cannot change it
 data="$(pwd)/../shared/data"
 : > "$work/rows.tsv"
-read -r -a refine_seeds <<< "${F2C_BENCH_REFINE_SEEDS:-0}"
 
 variants=(
   "full|--structure"
