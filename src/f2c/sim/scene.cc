@@ -112,6 +112,84 @@ class SceneBuilder {
     if (z0 > 0) AddQuad(p[0], p[3], p[2], p[1], m, next_surface_++);
   }
 
+  // A triangle whose normal points away from `inside` (a point within the object).
+  void AddFacet(const Vec3& a, Vec3 b, Vec3 c, const Vec3& inside, Material m, uint32_t surface) {
+    Vec3 n = (b - a).cross(c - a);
+    if (n.norm() < 1e-12) return;
+    n.normalize();
+    if (n.dot((a + b + c) / 3.0 - inside) < 0) {
+      std::swap(b, c);
+      n = -n;
+    }
+    scene_.triangles.push_back({a, b, c, n, m, surface});
+  }
+
+  // A box of `size` (x, y, z) standing at `base` (its bottom face's centre), turned by `yaw`
+  // about the vertical; no bottom face when it stands on z = 0.
+  void AddTurnedBox(const Vec3& base, const Vec3& size, double yaw, Material m) {
+    const Eigen::Matrix3d r = Eigen::AngleAxisd(yaw, Vec3::UnitZ()).toRotationMatrix();
+    Vec3 p[8];
+    for (int i = 0; i < 8; ++i) {
+      const Vec3 corner((i & 1 ? 0.5 : -0.5) * size.x(), (i & 2 ? 0.5 : -0.5) * size.y(), i & 4 ? size.z() : 0.0);
+      p[i] = base + r * corner;
+    }
+    const Vec3 inside = base + Vec3(0, 0, size.z() / 2);
+    const int faces[6][4] = {{0, 1, 5, 4}, {1, 3, 7, 5}, {3, 2, 6, 7}, {2, 0, 4, 6}, {4, 5, 7, 6}, {0, 2, 3, 1}};
+    for (int f = 0; f < 6; ++f) {
+      if (f == 5 && base.z() <= 0) continue;
+      const uint32_t surface = next_surface_++;
+      AddFacet(p[faces[f][0]], p[faces[f][1]], p[faces[f][2]], inside, m, surface);
+      AddFacet(p[faces[f][0]], p[faces[f][2]], p[faces[f][3]], inside, m, surface);
+    }
+  }
+
+  // A vertical cylinder (`segments` facets round), closed on top, and below when it does
+  // not stand on the floor.
+  void AddCylinder(const Vec3& base, double radius, double height, Material m, int segments = 32) {
+    const uint32_t side = next_surface_++, top = next_surface_++, bottom = next_surface_++;
+    const Vec3 inside = base + Vec3(0, 0, height / 2), up(0, 0, height);
+    for (int i = 0; i < segments; ++i) {
+      const double a0 = 2 * M_PI * i / segments, a1 = 2 * M_PI * (i + 1) / segments;
+      const Vec3 p0 = base + radius * Vec3(std::cos(a0), std::sin(a0), 0);
+      const Vec3 p1 = base + radius * Vec3(std::cos(a1), std::sin(a1), 0);
+      AddFacet(p0, p1, p1 + up, inside, m, side);
+      AddFacet(p0, p1 + up, p0 + up, inside, m, side);
+      AddFacet(base + up, p0 + up, p1 + up, inside, m, top);
+      if (base.z() > 0) AddFacet(base, p0, p1, inside, m, bottom);
+    }
+  }
+
+  // A closed blob round `centre`: a sphere of `radius` whose surface rises and falls by up to
+  // `bumps` of it (a few smooth random lobes): an organic shape with no plane on it. Its
+  // lowest point is at the centre's height minus the radius times (1 - bumps).
+  void AddBlob(const Vec3& centre, double radius, double bumps, std::mt19937_64* rng, Material m) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    struct Lobe { Vec3 axis; double sharpness, height; };
+    std::vector<Lobe> lobes;
+    for (int i = 0; i < 5; ++i) {
+      const double z = 2 * u(*rng) - 1, phi = 2 * M_PI * u(*rng);
+      lobes.push_back({Vec3(std::sqrt(1 - z * z) * std::cos(phi), std::sqrt(1 - z * z) * std::sin(phi), z),
+                       2.0 + 4.0 * u(*rng), (u(*rng) < 0.5 ? -1.0 : 1.0) * (0.4 + 0.6 * u(*rng))});
+    }
+    auto point = [&](double theta, double phi) {
+      const Vec3 d(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+      double s = 0;
+      for (const Lobe& l : lobes) s += l.height * std::exp(l.sharpness * (d.dot(l.axis) - 1));
+      return Vec3(centre + radius * (1 + bumps * std::clamp(s, -1.0, 1.0)) * d);
+    };
+    const uint32_t surface = next_surface_++;
+    constexpr int kRings = 24, kSegments = 48;
+    for (int i = 0; i < kRings; ++i) {
+      const double t0 = M_PI * i / kRings, t1 = M_PI * (i + 1) / kRings;
+      for (int j = 0; j < kSegments; ++j) {
+        const double p0 = 2 * M_PI * j / kSegments, p1 = 2 * M_PI * (j + 1) / kSegments;
+        const Vec3 a = point(t0, p0), b = point(t0, p1), c = point(t1, p1), d = point(t1, p0);
+        if (i > 0) AddFacet(a, b, c, centre, m, surface);
+        if (i + 1 < kRings) AddFacet(a, c, d, centre, m, surface);
+      }
+    }
+  }
+
   // A table: a slab top on four square legs.
   void AddTable(const Vec2& min, const Vec2& max, double height, Material m) {
     constexpr double kTop = 0.04, kLeg = 0.05;
@@ -169,6 +247,7 @@ class SceneBuilder {
     scene_.waypoints.push_back(door + sign * 0.7 * normal);
   }
   void Visit(const Vec2& p) { scene_.waypoints.push_back(p); }
+  void CircleAround(const Orbit& orbit) { scene_.orbit = orbit; }
 
   Scene Take() { return std::move(scene_); }
 
@@ -301,6 +380,47 @@ Scene Corridor(uint64_t seed) {
   return b.Take();
 }
 
+// An object scan: a low table of objects with no plane on them (a bumpy blob, a ball, a
+// bottle) and a few boxes and cylinders, more clutter on the floor beside it, in the middle of
+// a 13 m square room whose walls are beyond the depth sensor's reach (5-7 m away). The
+// camera circles the table at 1-1.5 m, 0.9-1.3 m high, looking at its objects.
+Scene ObjectScene(uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  SceneBuilder b(2.8);
+  constexpr double kSide = 13;
+  b.AddRoom("hall", Rect(0, 0, kSide, kSide), Material::kWood);
+  b.AddWall({0, 0}, {kSide, 0}, Material::kPoster);
+  b.AddWall({kSide, 0}, {kSide, kSide}, Material::kNoise);
+  b.AddWall({kSide, kSide}, {0, kSide}, Material::kPoster);
+  b.AddWall({0, kSide}, {0, 0}, Material::kPlain);
+  const Vec2 c(kSide / 2, kSide / 2);
+  constexpr double kTable = 0.45;
+  b.AddTable(c - Vec2(0.45, 0.35), c + Vec2(0.45, 0.35), kTable, Material::kWood);
+  const Vec3 top(c.x(), c.y(), kTable);
+  auto jitter = [&](double r) { return Vec3(r * (2 * u(rng) - 1), r * (2 * u(rng) - 1), 0); };
+  b.AddBlob(top + Vec3(-0.12, 0.05, 0.13) + jitter(0.04), 0.15, 0.3, &rng, Material::kNoise);
+  b.AddBlob(top + Vec3(0.22, -0.15, 0.08) + jitter(0.03), 0.08, 0.05, &rng, Material::kNoise);  // a ball
+  b.AddCylinder(top + Vec3(0.25, 0.15, 0) + jitter(0.03), 0.04 + 0.02 * u(rng), 0.22 + 0.1 * u(rng),
+                Material::kNoise);
+  b.AddTurnedBox(top + Vec3(-0.3, -0.2, 0) + jitter(0.03), Vec3(0.16, 0.1, 0.12 + 0.1 * u(rng)), 2 * M_PI * u(rng),
+                 Material::kNoise);
+  b.AddTurnedBox(top + Vec3(0.05, -0.22, 0) + jitter(0.02), Vec3(0.12, 0.12, 0.06), 2 * M_PI * u(rng),
+                 Material::kWood);
+  // On the floor beside the table: a bin, a carton, a stool (a cylinder on a cylinder).
+  b.AddCylinder(Vec3(c.x() + 0.7, c.y() - 0.35, 0) + jitter(0.05), 0.15, 0.4, Material::kNoise);
+  b.AddTurnedBox(Vec3(c.x() - 0.75, c.y() + 0.3, 0) + jitter(0.05), Vec3(0.4, 0.3, 0.3), 2 * M_PI * u(rng),
+                 Material::kNoise);
+  const Vec3 stool = Vec3(c.x() + 0.1, c.y() + 0.65, 0) + jitter(0.05);
+  b.AddCylinder(stool, 0.03, 0.4, Material::kWood, 12);
+  b.AddCylinder(stool + Vec3(0, 0, 0.4), 0.16, 0.04, Material::kWood);
+  b.AddBlob(stool + Vec3(0, 0, 0.44 + 0.07), 0.09, 0.25, &rng, Material::kNoise);
+  Orbit orbit;
+  orbit.target = Vec3(c.x(), c.y(), kTable + 0.1);
+  b.CircleAround(orbit);
+  return b.Take();
+}
+
 }  // namespace
 
 Eigen::Vector2d Room::Centre() const {
@@ -309,14 +429,16 @@ Eigen::Vector2d Room::Centre() const {
   return c / static_cast<double>(outline.size());
 }
 
-std::vector<std::string> SceneNames() { return {"two-rooms", "apartment", "apartment-square", "corridor"}; }
+std::vector<std::string> SceneNames() { return {"two-rooms", "apartment", "apartment-square", "corridor", "object"}; }
 
 Scene BuildScene(const std::string& name, uint64_t seed) {
   if (name == "two-rooms") return TwoRooms(seed);
   if (name == "apartment") return Apartment(seed);
   if (name == "apartment-square") return Apartment(seed, 4 * std::tan(6 * M_PI / 180));
   if (name == "corridor") return Corridor(seed);
-  ThrowInputError("--scene", fmt::format("unknown scene '{}' (expected two-rooms, apartment, apartment-square or corridor)", name));
+  if (name == "object") return ObjectScene(seed);
+  ThrowInputError("--scene",
+                  fmt::format("unknown scene '{}' (expected two-rooms, apartment, apartment-square, corridor or object)", name));
 }
 
 }  // namespace f2c::sim

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/StdVector>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,9 @@ struct Triangle {
   Eigen::Vector3d a, b, c;
   Eigen::Vector3d normal;   // unit; for walls, pointing into the room
   Material material = Material::kPlain;
-  uint32_t surface = 0;     // id of the planar surface (wall, floor, box face) it belongs to
+  // id of the surface it belongs to: a planar one (wall, floor, box face), or one curved
+  // object's side (a cylinder's mantle, a sphere)
+  uint32_t surface = 0;
 };
 
 struct Room {
@@ -32,18 +35,33 @@ struct Room {
   Eigen::Vector2d Centre() const;
 };
 
+// An object scan's route: the camera circles `target` (horizontally), looking at it, at a
+// distance and height that drift slowly within the swings, as a person walks round a table.
+struct Orbit {
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();  // what the camera looks at (metres)
+  double radius = 1.25;        // horizontal distance from the target (metres)
+  double radius_swing = 0.25;  // ... varying within +- this
+  double height = 1.1;         // camera height above the floor (metres)
+  double height_swing = 0.2;
+  double pace = 0.3;           // metres per second along the circle, at WalkOptions::speed 1
+};
+
 struct Scene {
   std::vector<Triangle> triangles;
   std::vector<Room> rooms;
   // Floor-plan points (metres) the camera's route passes through: it leaves and re-enters
   // rooms through their doors, so loops close.
   std::vector<Eigen::Vector2d> waypoints;
+  // Set for object scenes: the camera circles it instead of walking the waypoints.
+  std::optional<Orbit> orbit;
   double ceiling_height = 2.6;
 };
 
 // Named scenes: "two-rooms", "apartment" (four rooms and a corridor, one trapezoid room),
-// "corridor" (a long corridor with rooms off it). InputError for another name. `seed`
-// varies furniture and posters.
+// "apartment-square" (the same, its living room 6 deg off square), "corridor" (a long
+// corridor with rooms off it), "object" (a table of curved and cluttered objects in the
+// middle of a large room, circled at 1-1.5 m). InputError for another name. `seed` varies
+// furniture, objects and posters.
 Scene BuildScene(const std::string& name, uint64_t seed);
 std::vector<std::string> SceneNames();
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "f2c/sim/render.h"
+#include "f2c/sim/walk.h"
 
 namespace f2c::sim {
 namespace {
@@ -48,6 +49,49 @@ TEST(Scene, FurnitureHasTablesAndShelves) {
   }
   EXPECT_GT(tables, 0);
   EXPECT_GT(shelves, 0);
+}
+
+// The object scene: the camera circles the table at 1-1.5 m (0.9-1.3 m high), a little over
+// one round in 30 s, aimed within a few degrees of its objects. Its image centre is on them
+// in most frames (else on the floor through a gap) and never on a wall: the walls are beyond
+// the sensor's 5 m from the table.
+TEST(Scene, ObjectSceneIsCircledAndSeen) {
+  for (uint64_t seed = 0; seed < 3; ++seed) {
+    const Scene scene = BuildScene("object", seed);
+    ASSERT_TRUE(scene.orbit.has_value());
+    const Vec3 target = scene.orbit->target;
+    const Renderer renderer(scene);
+    WalkOptions options;
+    options.frames = 900;
+    options.seed = seed;
+    const Trajectory walk = GenerateWalk(scene, options);
+    double turned = 0;
+    int on_objects = 0;  // frames whose image centre is on the table's objects
+    for (int i = 0; i < options.frames; ++i) {
+      const Rigid3d& pose = walk.world_from_camera[i];
+      const Vec3 p = pose.translation();
+      const double radius = (p - target).head<2>().norm();
+      EXPECT_GE(radius, 1.0 - 0.01) << i;
+      EXPECT_LE(radius, 1.5 + 0.01) << i;
+      EXPECT_GE(p.z(), 0.9 - 0.01) << i;
+      EXPECT_LE(p.z(), 1.3 + 0.01) << i;
+      const Vec3 axis = pose.linear().col(2);
+      EXPECT_GT(axis.dot((target - p).normalized()), std::cos(8 * M_PI / 180)) << i;
+      EXPECT_LT(renderer.CastRay(p, axis, nullptr), 5.0) << "frame " << i << " sees no wall";
+      on_objects += ((p + renderer.CastRay(p, axis, nullptr) * axis) - target).norm() < 0.5;
+      if (i > 0) {
+        const Vec3 q = walk.world_from_camera[i - 1].translation() - target, r = p - target;
+        turned += std::atan2(q.x() * r.y() - q.y() * r.x(), q.x() * r.x() + q.y() * r.y());
+      }
+    }
+    EXPECT_GT(on_objects, 0.8 * options.frames) << "seed " << seed;
+    // 30 s at 0.3 m/s on a circle of about 1.25 m: more than one round, so the scan closes.
+    EXPECT_GT(std::abs(turned), 2 * M_PI) << "seed " << seed;
+    EXPECT_LT(std::abs(turned), 2 * M_PI * 1.5) << "seed " << seed;
+    for (const Vec3& d : {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(-1, 0, 0), Vec3(0, -1, 0)}) {
+      EXPECT_GT(renderer.CastRay(Vec3(target.x(), target.y(), 2.7), d, nullptr), 5.0);
+    }
+  }
 }
 
 }  // namespace

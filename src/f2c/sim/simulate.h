@@ -29,7 +29,7 @@ struct SimulateOptions {
     v.Group("Simulation");
     F2C_FIELD(v, scene, "--scene", {},
               "two-rooms, apartment (its living room a trapezoid, side walls 14 deg off square), apartment-square (the "
-              "same at 6 deg) or corridor");
+              "same at 6 deg), corridor, or object (a table of curved and cluttered objects, circled at 1-1.5 m)");
     F2C_FIELD(v, seed, "--seed", {}, "furniture, walk and noise");
     F2C_FIELD(v, correspondences, "--correspondences", Between(0, 1000000),
               "ground-truth correspondences to write (at most 1,000,000)");

@@ -50,8 +50,55 @@ void WalkOptions::Check() const {
   CheckFields(*this);
 }
 
+namespace {
+
+// world_from_camera of a camera at `position` looking along `forward` (camera x right,
+// y down, z forward; the image's horizon level), rolled by `roll` about its axis.
+Rigid3d LookAlong(const Eigen::Vector3d& position, const Eigen::Vector3d& forward, double roll) {
+  const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
+  const Eigen::Vector3d down = forward.cross(right);
+  Eigen::Matrix3d r;
+  r << right, down, forward;
+  Rigid3d pose = Rigid3d::Identity();
+  pose.linear() = r * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = position;
+  return pose;
+}
+
+// An object scan: the camera circles the orbit's target at its pace, distance and height
+// drifting slowly within their swings, aimed at the target with a hand's unsteadiness.
+Trajectory OrbitWalk(const Orbit& orbit, const WalkOptions& o) {
+  std::mt19937_64 rng(o.seed);
+  const Wobble wx(&rng), wy(&rng), wz(&rng), wyaw(&rng), wpitch(&rng), wroll(&rng);
+  std::uniform_real_distribution<double> ph(0, 2 * M_PI);
+  const double start = ph(rng), radius_phase = ph(rng), height_phase = ph(rng);
+  const double deg = M_PI / 180.0;
+  // Aim: within a few degrees of the target (the hand follows it, not exactly).
+  constexpr double kAimDeg = 4.0;
+  Trajectory walk;
+  double angle = start;
+  for (int i = 0; i < o.frames; ++i) {
+    const double t = i / o.fps;
+    const double radius = orbit.radius + orbit.radius_swing * std::sin(2 * M_PI * t / 13.0 + radius_phase);
+    const double height = orbit.height + orbit.height_swing * std::sin(2 * M_PI * t / 9.0 + height_phase);
+    if (i > 0) angle += o.speed * orbit.pace / o.fps / radius;
+    const Eigen::Vector3d position(orbit.target.x() + radius * std::cos(angle) + o.shake_translation * wx(t),
+                                   orbit.target.y() + radius * std::sin(angle) + o.shake_translation * wy(t),
+                                   height + o.shake_translation * wz(t));
+    const Eigen::Vector3d to_target = (orbit.target - position).normalized();
+    const double yaw = std::atan2(to_target.y(), to_target.x()) + (kAimDeg * wyaw(0.5 * t) + o.shake_rotation_deg * wyaw(t)) * deg;
+    const double pitch = std::asin(to_target.z()) + (kAimDeg * wpitch(0.5 * t) + o.shake_rotation_deg * wpitch(t)) * deg;
+    const Eigen::Vector3d forward(std::cos(yaw) * std::cos(pitch), std::sin(yaw) * std::cos(pitch), std::sin(pitch));
+    walk.Add(t, LookAlong(position, forward, o.shake_rotation_deg * deg * wroll(t)));
+  }
+  return walk;
+}
+
+}  // namespace
+
 Trajectory GenerateWalk(const Scene& scene, const WalkOptions& o) {
   o.Check();
+  if (scene.orbit) return OrbitWalk(*scene.orbit, o);
   F2C_CHECK(scene.waypoints.size() >= 2, "a scene has a route");
   const std::vector<Vec2> route = SmoothRoute(scene.waypoints);
   std::vector<double> arc(route.size(), 0.0);
@@ -92,15 +139,9 @@ Trajectory GenerateWalk(const Scene& scene, const WalkOptions& o) {
     const double pitch = o.pitch_deg * deg + o.shake_rotation_deg * deg * wpitch(t);
     const double roll = o.shake_rotation_deg * deg * wroll(t);
     const Eigen::Vector3d forward(std::cos(yaw) * std::cos(pitch), std::sin(yaw) * std::cos(pitch), std::sin(pitch));
-    const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
-    const Eigen::Vector3d down = forward.cross(right);
-    Rigid3d pose = Rigid3d::Identity();
-    Eigen::Matrix3d r;
-    r << right, down, forward;
-    pose.linear() = r * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    pose.translation() = Eigen::Vector3d(p.x() + o.shake_translation * wx(t), p.y() + o.shake_translation * wy(t),
-                                         o.eye_height + o.shake_translation * wz(t));
-    walk.Add(t, pose);
+    walk.Add(t, LookAlong(Eigen::Vector3d(p.x() + o.shake_translation * wx(t), p.y() + o.shake_translation * wy(t),
+                                          o.eye_height + o.shake_translation * wz(t)),
+                          forward, roll));
   }
   return walk;
 }

@@ -1,7 +1,9 @@
 #pragma once
 // A hand-held walk through a scene's waypoints: ~1 m/s, eye height ~1.5 m, the head
 // sweeping left and right, a small shake; when the frames outlast the route it walks back,
-// so long sequences revisit rooms (loop closures).
+// so long sequences revisit rooms (loop closures). In a scene with an orbit (an object scan)
+// the camera circles the object instead (scene.h's Orbit), and the route's options (speed
+// aside, which scales the orbit's pace; eye height, pitch, sweep, turn rate) do not apply.
 
 #include <cstdint>
 
