@@ -115,6 +115,11 @@ std::string RegisterReport(const RgbdSequence& seq, const Odometry& odometry, co
       for (const auto& [type, n] : it["correspondences"]["by_type"].items()) {
         r.correspondences_by_type.emplace_back(type, n.get<int>());
       }
+      if (it.contains("self_check") && it["self_check"].is_object()) {
+        r.check_before = it["self_check"]["before"]["rms_m"].get<double>();
+        r.check_after = it["self_check"]["after"]["rms_m"].get<double>();
+        r.undone = it["self_check"]["undone"].get<bool>();
+      }
       in.iterations.push_back(std::move(r));
     }
   }

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <nlohmann/json.hpp>
 
+#include "f2c/refine/self_check.h"
 #include "f2c/util/error.h"
 
 namespace f2c {
@@ -115,11 +116,13 @@ std::vector<FeatureCorrespondence> FindCorrespondences(const std::vector<FramePa
         const FeatureCloud& from = src.families[family];
         const FeatureCloud& to = dst.families[family];
         if (to.size() == 0) continue;
+        if (family == 0 && HeldOut(source, local, options.held_out_every)) continue;
         ++tried[p];
         const Eigen::Vector3f q = target_from_source * from.point(local);
         const Eigen::Vector3f dir = target_from_source.linear() * from.direction(local);
         const int k = to.Nearest(q, options.neighbours, nearest, d2, max_d2);  // all within the distance
         for (int m = 0; m < k; ++m) {
+          if (family == 0 && HeldOut(target, static_cast<int>(nearest[m]), options.held_out_every)) continue;
           const float c = to.direction(nearest[m]).dot(dir);
           if ((family == 0 ? c : std::abs(c)) < min_cos) continue;
           const FeatureType type = to.type(nearest[m]);

@@ -67,6 +67,9 @@ struct CorrespondenceOptions {
   // ridge and valley 0.2); shadows and borders when used.
   std::array<double, kFeatureTypeCount> type_weights = {1.0, 0.6, 0.2, 0.2, 0.2, 0.2};
   uint64_t seed = 0;
+  // Plane features held out for the self-check (refine/self_check.h's HeldOut, one in this
+  // many; 0: none): never a correspondence's point or target. Set by the refinement.
+  int held_out_every = 0;
 
   template <class V>
   void Fields(V& v) {

@@ -1,5 +1,6 @@
 #include "f2c/refine/refine.h"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 
@@ -109,6 +110,8 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     link_from.push_back(p.Reference());
   }
   SiftLoopMatcher loops(std::move(keyframes), confidence, options.loops);
+  CorrespondenceOptions correspondence_options = options.correspondences;
+  if (options.self_check.enabled) correspondence_options.held_out_every = options.self_check.every;
   int first_structure = options.structure_first_iteration;  // < 0: the first full window
   if (first_structure < 0) {
     first_structure = 0;
@@ -197,7 +200,8 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
 
     stage.Restart();
     constraints.correspondences = FindCorrespondences(candidates, index, result.poses, schedule, it, path,
-                                                      options.correspondences, &s.correspondences);
+                                                      correspondence_options, &s.correspondences);
+    if (run.tamper) run.tamper(it, &constraints.correspondences);
     s.seconds_correspondences = stage.Seconds();
 
     // The structural model under the current poses.
@@ -250,18 +254,37 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     s.local_loss_scale = solver.measured_local_loss_scale;
     s.solve = SolvePoses(constraints, solver, &result.poses);
     s.seconds_solve = stage.Seconds();
+    if (options.self_check.enabled) {
+      stage.Restart();
+      const std::vector<FramePair> check_pairs = CheckPairs(index, before, result.poses, intrinsics, options.pairs);
+      s.self_check.done = true;
+      s.self_check.before =
+          ScoreHeldOut(check_pairs, index, before, intrinsics, options.self_check, options.pairs.max_depth);
+      s.self_check.after =
+          ScoreHeldOut(check_pairs, index, result.poses, intrinsics, options.self_check, options.pairs.max_depth);
+      if (s.self_check.after.score > (1 + options.self_check.tolerance) * s.self_check.before.score) {
+        s.self_check.undone = true;
+        ++result.undone_iterations;
+        result.poses = before;
+      }
+      s.seconds_check = stage.Seconds();
+    }
     PoseChange(before, result.poses, &s);
     s.seconds = timer.Seconds();
     if (!run.quiet) {
       spdlog::info("refine {}/{}{}: windows of {:.4g} {} ({}), {} pairs, {} correspondences, {} SIFT loops (+{}), "
                    "{} parents, {} relations, "
-                   "E_C {:.4g} -> {:.4g}, {} Ceres iterations, max change {:.3f} m / {:.2f} deg, {:.2f} s",
+                   "E_C {:.4g} -> {:.4g}, {} Ceres iterations, max change {:.3f} m / {:.2f} deg{}, {:.2f} s",
                    it + 1, schedule.iterations(), it < schedule.iterations() ? "" : " (added polish)", s.window_length,
                    options.windows.mode == WindowMode::kPath ? "m" : "frames", s.windows, s.candidate_pairs,
                    s.correspondences.total(), s.loops.pairs, s.loops.accepted, s.hierarchy.parents,
                    s.relations.total(), s.solve.cost_before.count("E_C") ? s.solve.cost_before.at("E_C") : 0.0,
                    s.solve.cost_after.count("E_C") ? s.solve.cost_after.at("E_C") : 0.0, s.solve.iterations,
-                   s.max_translation_change, s.max_rotation_change_deg, s.seconds);
+                   s.max_translation_change, s.max_rotation_change_deg,
+                   !s.self_check.done ? std::string()
+                                      : fmt::format(", check {:.4f} -> {:.4f} m{}", s.self_check.before.Rms(),
+                                                    s.self_check.after.Rms(), s.self_check.undone ? " (undone)" : ""),
+                   s.seconds);
     }
     result.iterations.push_back(s);
     if (run.keep_iterations) result.iteration_poses.push_back(result.poses);
@@ -299,11 +322,13 @@ nlohmann::json ToJson(const IterationSummary& s) {
           {"max_rotation_change_deg", s.max_rotation_change_deg},
           {"rms_translation_change_m", s.rms_translation_change},
           {"rms_rotation_change_deg", s.rms_rotation_change_deg},
+          {"self_check", ToJson(s.self_check)},
           {"seconds", {{"pairs", s.seconds_pairs},
                        {"correspondences", s.seconds_correspondences},
                        {"sift_loops", s.seconds_loops},
                        {"structure", s.seconds_structure},
                        {"solve", s.seconds_solve},
+                       {"self_check", s.seconds_check},
                        {"total", s.seconds}}}};
 }
 

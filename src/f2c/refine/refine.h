@@ -10,6 +10,8 @@
 //     G      = DetectRelations(H)                    parallel / antiparallel / orthogonal
 //     poses, planes = argmin w_C E_C + w_L E_L + w_I E_I + w_M E_M + w_V E_V
 //                            + w_P E_P + w_H E_H + w_G E_G          (optim/problem.h)
+//     check  = held-out features' agreement before and after;      (beyond the paper;
+//              an iteration that lowers it is undone                 refine/self_check.h)
 //
 // E_L's constraints come from the odometry once (refine/local_alignment.h), E_V's from the
 // time stamps (refine/steady_motion.h). Everything is
@@ -30,6 +32,7 @@
 #include "f2c/refine/local_alignment.h"
 #include "f2c/refine/pairs.h"
 #include "f2c/refine/relations.h"
+#include "f2c/refine/self_check.h"
 #include "f2c/refine/sift_loops.h"
 #include "f2c/refine/steady_motion.h"
 #include "f2c/refine/windows.h"
@@ -46,6 +49,7 @@ struct RefineOptions {
   SteadyMotionOptions steady_motion;
   SiftLoopOptions loops;
   SolverOptions solver;
+  SelfCheckOptions self_check;
   // The planar structural model (E_P, E_H, E_G), on by default as in the paper;
   // register --no-structure is its ablation. Measured (BENCHMARKS.md): it lowers rotation
   // drift and correspondence error on every simulated walk and on the 5,000-frame walk,
@@ -165,6 +169,7 @@ struct RefineOptions {
     F2C_NESTED(v, hierarchy);
     F2C_NESTED(v, relations);
     F2C_NESTED(v, loops);
+    F2C_NESTED(v, self_check);
   }
   void Check() const;  // InputError naming the option when out of range
 };
@@ -196,8 +201,9 @@ struct IterationSummary {
   double max_rotation_change_deg = 0;
   double rms_translation_change = 0;  // metres, RMS over the poses
   double rms_rotation_change_deg = 0;
+  SelfCheckRecord self_check;
   double seconds_pairs = 0, seconds_correspondences = 0, seconds_loops = 0, seconds_structure = 0, seconds_solve = 0,
-         seconds = 0;
+         seconds_check = 0, seconds = 0;
 };
 
 struct RefineResult {
@@ -208,12 +214,16 @@ struct RefineResult {
   // frames under the initial poses (degrees), and the factor it gave w_H.
   double initial_child_normal_spread_deg = 0;
   double coplanarity_noise_factor = 1;
+  int undone_iterations = 0;  // iterations the self-check did not take
   double seconds = 0;
 };
 
 struct RefineRun {
   bool quiet = false;               // no per-iteration log line
   bool keep_iterations = false;     // fill RefineResult::iteration_poses
+  // For tests: called with each iteration's correspondences before the solve, to make an
+  // iteration go wrong on purpose (the self-check's test).
+  std::function<void(int iteration, std::vector<FeatureCorrespondence>*)> tamper;
 };
 
 // The compact per-frame features and their k-d trees (parallel over frames).

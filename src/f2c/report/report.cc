@@ -91,6 +91,28 @@ std::vector<PlotSeries> ByName(const std::vector<ReportIteration>& its,
   return series;
 }
 
+// The self-check's measure after each iteration (and before it, where it was undone: the
+// poses it kept), with the undone iterations marked; empty when no iteration was checked.
+std::string SelfCheckPlot(const std::vector<ReportIteration>& its) {
+  PlotSeries kept{"held-out RMS after the iteration (m)", {}, {}, "#1f77b4", PlotSeries::Style::kLine, 2};
+  PlotSeries undone{"undone: what it would have been", {}, {}, "#d62728", PlotSeries::Style::kPoints, 2};
+  bool any = false;
+  for (size_t i = 0; i < its.size(); ++i) {
+    const double x = static_cast<double>(i + 1);
+    any = any || std::isfinite(its[i].check_after);
+    kept.x.push_back(x), kept.y.push_back(its[i].undone ? its[i].check_before : its[i].check_after);
+    if (its[i].undone) undone.x.push_back(x), undone.y.push_back(its[i].check_after);
+  }
+  if (!any) return "";
+  Plot plot;
+  plot.title = "Self-check: how far held-out features lie off the other frames' surfaces";
+  plot.x.label = "iteration";
+  plot.y.label = "RMS, truncated (m)";
+  plot.series = {kept, undone};
+  plot.width = 640, plot.height = 340;
+  return RenderSvg(plot);
+}
+
 std::string IterationPlots(const std::vector<ReportIteration>& its) {
   Plot cost, corr, window, time;
   cost.title = "Energy after each iteration, by term";
@@ -114,7 +136,8 @@ std::string IterationPlots(const std::vector<ReportIteration>& its) {
   window.series = {w};
   time.series = {t};
   for (Plot* p : {&cost, &corr, &window, &time}) p->width = 640, p->height = 340;
-  return "<div class=\"plots\">\n" + RenderSvg(cost) + RenderSvg(corr) + RenderSvg(window) + RenderSvg(time) + "</div>\n";
+  return "<div class=\"plots\">\n" + RenderSvg(cost) + SelfCheckPlot(its) + RenderSvg(corr) + RenderSvg(window) +
+         RenderSvg(time) + "</div>\n";
 }
 
 template <typename T>

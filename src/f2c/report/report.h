@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -35,6 +36,11 @@ struct ReportIteration {
   double seconds = 0;
   std::vector<std::pair<std::string, double>> cost_after;         // per energy term
   std::vector<std::pair<std::string, int>> correspondences_by_type;
+  // The self-check (refine/self_check.h): held-out features' RMS disagreement before and after
+  // the iteration (metres; NaN: no check), and whether the iteration was undone.
+  double check_before = std::numeric_limits<double>::quiet_NaN();
+  double check_after = std::numeric_limits<double>::quiet_NaN();
+  bool undone = false;
 };
 
 struct ReportInput {

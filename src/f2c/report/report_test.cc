@@ -47,6 +47,8 @@ TEST(BuildReport, EverySectionWithPlotsThatParse) {
     it.cost_after = {{"E_C", 1.0 / (i + 1)}, {"E_L", 0.01}};
     if (i > 0) it.cost_after.emplace_back("E_P", 0.5);  // a term that starts later
     it.correspondences_by_type = {{"plane", 100 * i}, {"silhouette", 10}};
+    it.check_before = 0.02 - 0.001 * i, it.check_after = i == 2 ? 0.03 : 0.019 - 0.001 * i;
+    it.undone = i == 2;
     in.iterations.push_back(it);
   }
   // Five frames seeing a wall (x = 3) and a floor (y = 1; the cameras' up is -y).
@@ -70,6 +72,7 @@ TEST(BuildReport, EverySectionWithPlotsThatParse) {
   in.options_json.clear();
   for (const char* s : {"<h2>Run</h2>", "<h2>Top-down slice of the registered points</h2>", "<th>ATE RMSE (m)</th>", "<h2>Trajectories</h2>", "<h2>Errors</h2>", "<h2>Correspondence errors</h2>",
                         "<h2>Refinement</h2>", ">E_P</text>", ">silhouette</text>",
+                        "Self-check: how far held-out features lie off", ">undone: what it would have been</text>",
                         "the paper&#39;s Fig. 9", "test &lt;run&gt;", ">ICP / motion prior<"}) {
     EXPECT_NE(html.find(s), std::string::npos) << s;
   }
@@ -83,7 +86,7 @@ TEST(BuildReport, EverySectionWithPlotsThatParse) {
     EXPECT_EQ(svg.find("no data"), std::string::npos) << svg.substr(0, 200);
     ++svgs;
   }
-  EXPECT_EQ(svgs, 14);  // 2 maps, 3 slices, 3 error plots, Fig. 9, histogram, 4 per-iteration plots
+  EXPECT_EQ(svgs, 15);  // 2 maps, 3 slices, 3 error plots, Fig. 9, histogram, 5 per-iteration plots
   EXPECT_EQ(html, BuildReport(in));  // the same bytes every time
 
   // Without ground truth or correspondences: the maps, and lines saying what is missing.

@@ -1,0 +1,110 @@
+#include "f2c/refine/self_check.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "f2c/refine/windows.h"
+
+namespace f2c {
+
+void SelfCheckOptions::Check() const { CheckFields(*this); }
+
+bool HeldOut(int frame, int feature, int every) {
+  if (every <= 0) return false;
+  uint64_t h = (static_cast<uint64_t>(frame) << 32) ^ static_cast<uint32_t>(feature);
+  h ^= h >> 33;
+  h *= 0xff51afd7ed558ccdULL;
+  h ^= h >> 33;
+  h *= 0xc4ceb9fe1a85ec53ULL;
+  h ^= h >> 33;
+  return h % static_cast<uint64_t>(every) == 0;
+}
+
+double SelfCheckScore::Rms() const { return std::sqrt(score); }
+
+SelfCheckScore ScoreHeldOut(const std::vector<FramePair>& pairs, const FeatureIndex& index, const PoseVector& poses,
+                            const CameraIntrinsics& k, const SelfCheckOptions& options, double max_depth) {
+  struct Partial {
+    double sum = 0;
+    int64_t points = 0, agreeing = 0;
+  };
+  std::vector<Partial> partial(pairs.size());
+  const float tau2 = static_cast<float>(options.tau * options.tau);
+  const float radius2 = static_cast<float>(options.search_radius * options.search_radius);
+  const float min_cos = static_cast<float>(std::cos(options.max_angle_deg * M_PI / 180));
+  tbb::parallel_for(0, static_cast<int>(pairs.size()), [&](int p) {
+    uint32_t nearest[64];
+    float d2[64];
+    Partial& out = partial[p];
+    for (int side = 0; side < 2; ++side) {
+      const int source = side == 0 ? pairs[p].a : pairs[p].b;
+      const int target = side == 0 ? pairs[p].b : pairs[p].a;
+      const FeatureCloud& from = index.frames[source]->family(FeatureFamily::kPlane);
+      const FeatureCloud& to = index.frames[target]->family(FeatureFamily::kPlane);
+      const Eigen::Isometry3f target_from_source =
+          (poses[target].ToRigid().inverse() * poses[source].ToRigid()).cast<float>();
+      for (int i = 0; i < from.size(); ++i) {
+        if (!HeldOut(source, i, options.every)) continue;
+        const Eigen::Vector3f q = target_from_source * from.point(i);
+        if (!(q.z() > 0) || q.z() > max_depth) continue;
+        const double u = k.fx * q.x() / q.z() + k.cx, v = k.fy * q.y() / q.z() + k.cy;
+        if (u < 0 || v < 0 || u > k.width - 1 || v > k.height - 1) continue;
+        ++out.points;
+        const Eigen::Vector3f n = target_from_source.linear() * from.direction(i);
+        float best = tau2;
+        const int found = to.size() > 0 ? to.Nearest(q, options.neighbours, nearest, d2, radius2) : 0;
+        for (int m = 0; m < found; ++m) {
+          if (to.direction(nearest[m]).dot(n) < min_cos) continue;
+          const float d = to.direction(nearest[m]).dot(q - to.point(nearest[m]));
+          best = std::min(best, d * d);
+          break;
+        }
+        out.sum += best;
+        out.agreeing += best < tau2;
+      }
+    }
+  });
+  SelfCheckScore s;
+  double sum = 0;
+  for (const Partial& p : partial) {  // in pair order: the same sum for any thread count
+    sum += p.sum;
+    s.points += p.points;
+    s.agreeing += p.agreeing;
+  }
+  s.pairs = static_cast<int>(pairs.size());
+  s.score = s.points > 0 ? sum / s.points : 0;
+  return s;
+}
+
+std::vector<FramePair> CheckPairs(const FeatureIndex& index, const PoseVector& before, const PoseVector& after,
+                                  const CameraIntrinsics& intrinsics, const PairOptions& options) {
+  WindowOptions whole;
+  whole.fine_to_coarse = false;
+  whole.extra_iterations = 0;
+  whole.polish_iterations = 0;
+  const WindowSchedule schedule(whole, std::vector<double>(before.size(), 0.0));
+  std::vector<FramePair> pairs = CandidatePairs(schedule, 0, index, before, intrinsics, options);
+  const std::vector<FramePair> more = CandidatePairs(schedule, 0, index, after, intrinsics, options);
+  pairs.insert(pairs.end(), more.begin(), more.end());
+  auto key = [](const FramePair& p) { return std::pair(p.a, p.b); };
+  std::sort(pairs.begin(), pairs.end(), [&](const FramePair& x, const FramePair& y) { return key(x) < key(y); });
+  pairs.erase(std::unique(pairs.begin(), pairs.end(), [&](const FramePair& x, const FramePair& y) { return key(x) == key(y); }),
+              pairs.end());
+  return pairs;
+}
+
+nlohmann::json ToJson(const SelfCheckRecord& r) {
+  if (!r.done) return nullptr;
+  auto score = [](const SelfCheckScore& s) {
+    return nlohmann::json{{"rms_m", s.Rms()},
+                          {"points", s.points},
+                          {"agreeing", s.points > 0 ? nlohmann::json(static_cast<double>(s.agreeing) / s.points)
+                                                    : nlohmann::json(nullptr)}};
+  };
+  return {{"pairs", r.before.pairs}, {"before", score(r.before)}, {"after", score(r.after)}, {"undone", r.undone}};
+}
+
+}  // namespace f2c

@@ -1,0 +1,91 @@
+#pragma once
+// The refinement's check of its own work, without ground truth (beyond the paper; issue
+// "scenes it has never seen"): a share of every frame's plane features is held out of the
+// energy (E_C never takes one as a correspondence's moved point), and after each iteration
+// they measure how well the poses make overlapping frames agree.
+//
+// The measure, for a set of frame pairs P and the held-out features h of each frame:
+//
+//   S = 1/N sum_{(a,b) in P} sum_{h in a, then in b} min(d(h)^2, tau^2)
+//
+// with d(h) the distance of h, moved into the other frame by the current poses, from the
+// plane of the nearest plane feature there whose normal agrees within max_angle (among the
+// `neighbours` nearest within search_radius); a held-out feature that lands in the other
+// camera's view (in its image, max_depth deep) but finds no such plane counts tau^2, one
+// that lands outside it does not count. S is a mean squared point-to-plane disagreement,
+// truncated at tau so that occlusions and the scene's own gaps weigh no more than a
+// disagreement of tau. N counts the features that landed in view.
+//
+// An iteration is compared on one pair set: the pairs that overlap under the poses before it
+// or after it, searched as in one window holding the scan (refine/pairs.h), so that loops
+// count as much as neighbours. An iteration whose S after is above (1 + tolerance) S before
+// is not taken: the poses go back to where the iteration started, and the next iteration
+// (larger windows, other correspondences) starts from there.
+
+#include <nlohmann/json_fwd.hpp>
+#include <vector>
+
+#include "f2c/geometry/intrinsics.h"
+#include "f2c/optim/pose.h"
+#include "f2c/refine/feature_index.h"
+#include "f2c/refine/pairs.h"
+#include "f2c/util/fields.h"
+
+namespace f2c {
+
+struct SelfCheckOptions {
+  bool enabled = true;
+  // One plane feature in `every` is held out (chosen by a hash of frame and feature, so the
+  // same ones each iteration).
+  int every = 10;
+  double tau = 0.03;            // metres: the truncation
+  double search_radius = 0.1;   // metres: the nearest features considered
+  double max_angle_deg = 30;    // normals that agree
+  int neighbours = 4;
+  double tolerance = 0.01;      // S may grow by this share before an iteration is undone
+
+  template <class V>
+  void Fields(V& v) {
+    v.Group("Refinement: self-check");
+    F2C_FIELD(v, enabled, "--self-check,!--no-self-check", {},
+              "hold out plane features and undo an iteration that makes overlapping frames agree less");
+    F2C_FIELD(v, every, "--self-check-every", AtLeast(2), "one plane feature in this many is held out");
+    F2C_FIELD(v, tau, "--self-check-tau", Positive(), "truncation of the held-out point-to-plane distances (m)");
+    F2C_FIELD(v, search_radius, "", Positive(), "held-out features' search radius (m)");
+    F2C_FIELD(v, max_angle_deg, "", AboveUpTo(0, 180), "held-out features' normal agreement (deg)");
+    F2C_FIELD(v, neighbours, "", Between(1, 64), "nearest features checked per held-out feature");
+    F2C_FIELD(v, tolerance, "--self-check-tolerance", AtLeast(0),
+              "an iteration is undone when it raises the check's score by more than this share");
+  }
+  void Check() const;
+};
+
+// Whether plane feature `feature` of frame `frame` is held out (every >= 2; 0: none is).
+bool HeldOut(int frame, int feature, int every);
+
+struct SelfCheckScore {
+  double score = 0;   // S (m^2)
+  int64_t points = 0;  // N
+  int64_t agreeing = 0;  // of those, the ones within tau
+  int pairs = 0;
+  double Rms() const;  // sqrt(S), metres
+};
+
+// S of `poses` over `pairs` (refine/pairs.h's, any window).
+SelfCheckScore ScoreHeldOut(const std::vector<FramePair>& pairs, const FeatureIndex& index, const PoseVector& poses,
+                            const CameraIntrinsics& intrinsics, const SelfCheckOptions& options, double max_depth);
+
+// The pairs of one window holding the scan under either set of poses, sorted and unique.
+std::vector<FramePair> CheckPairs(const FeatureIndex& index, const PoseVector& before, const PoseVector& after,
+                                  const CameraIntrinsics& intrinsics, const PairOptions& options);
+
+// One iteration's check.
+struct SelfCheckRecord {
+  bool done = false;     // the check ran
+  SelfCheckScore before, after;
+  bool undone = false;   // the iteration was not taken
+};
+
+nlohmann::json ToJson(const SelfCheckRecord& record);
+
+}  // namespace f2c
