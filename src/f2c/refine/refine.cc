@@ -112,6 +112,7 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
   SiftLoopMatcher loops(std::move(keyframes), confidence, options.loops);
   CorrespondenceOptions correspondence_options = options.correspondences;
   if (options.self_check.enabled) correspondence_options.held_out_every = options.self_check.every;
+  CheckPairCache check_cache;  // the self-check's pairs under the poses the next iteration starts from
   int first_structure = options.structure_first_iteration;  // < 0: the first full window
   if (first_structure < 0) {
     first_structure = 0;
@@ -256,7 +257,9 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     s.seconds_solve = stage.Seconds();
     if (options.self_check.enabled) {
       stage.Restart();
-      const std::vector<FramePair> check_pairs = CheckPairs(index, before, result.poses, intrinsics, options.pairs);
+      std::vector<FramePair> pairs_before = check_cache.For(index, before, intrinsics, options.pairs);
+      std::vector<FramePair> pairs_after = WholeScanPairs(index, result.poses, intrinsics, options.pairs);
+      const std::vector<FramePair> check_pairs = UnitePairs(pairs_before, pairs_after);
       s.self_check.done = true;
       s.self_check.before =
           ScoreHeldOut(check_pairs, index, before, intrinsics, options.self_check, options.pairs.max_depth);
@@ -266,6 +269,9 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
         s.self_check.undone = true;
         ++result.undone_iterations;
         result.poses = before;
+        check_cache.Keep(before, std::move(pairs_before));
+      } else {
+        check_cache.Keep(result.poses, std::move(pairs_after));
       }
       s.seconds_check = stage.Seconds();
     }

@@ -46,13 +46,22 @@ SelfCheckScore ScoreHeldOut(const std::vector<FramePair>& pairs, const FeatureIn
       const FeatureCloud& to = index.frames[target]->family(FeatureFamily::kPlane);
       const Eigen::Isometry3f target_from_source =
           (poses[target].ToRigid().inverse() * poses[source].ToRigid()).cast<float>();
-      for (int i = 0; i < from.size(); ++i) {
+      // From a start that depends on the pair, so that a frame's pairs measure different
+      // held-out features, the same ones before and after an iteration.
+      const int size = from.size();
+      const int start = size > 0 ? static_cast<int>((static_cast<uint64_t>(pairs[p].a) * 0x9E3779B1u +
+                                                     static_cast<uint64_t>(pairs[p].b) * 0x85EBCA77u) % size)
+                                 : 0;
+      int measured = 0;
+      for (int j = 0; j < size && measured < options.points_per_pair; ++j) {
+        const int i = (start + j) % size;
         if (!HeldOut(source, i, options.every)) continue;
         const Eigen::Vector3f q = target_from_source * from.point(i);
         if (!(q.z() > 0) || q.z() > max_depth) continue;
         const double u = k.fx * q.x() / q.z() + k.cx, v = k.fy * q.y() / q.z() + k.cy;
         if (u < 0 || v < 0 || u > k.width - 1 || v > k.height - 1) continue;
         ++out.points;
+        ++measured;
         const Eigen::Vector3f n = target_from_source.linear() * from.direction(i);
         float best = tau2;
         const int found = to.size() > 0 ? to.Nearest(q, options.neighbours, nearest, d2, radius2) : 0;
@@ -79,21 +88,37 @@ SelfCheckScore ScoreHeldOut(const std::vector<FramePair>& pairs, const FeatureIn
   return s;
 }
 
-std::vector<FramePair> CheckPairs(const FeatureIndex& index, const PoseVector& before, const PoseVector& after,
-                                  const CameraIntrinsics& intrinsics, const PairOptions& options) {
+std::vector<FramePair> WholeScanPairs(const FeatureIndex& index, const PoseVector& poses,
+                                      const CameraIntrinsics& intrinsics, const PairOptions& options) {
   WindowOptions whole;
   whole.fine_to_coarse = false;
   whole.extra_iterations = 0;
   whole.polish_iterations = 0;
-  const WindowSchedule schedule(whole, std::vector<double>(before.size(), 0.0));
-  std::vector<FramePair> pairs = CandidatePairs(schedule, 0, index, before, intrinsics, options);
-  const std::vector<FramePair> more = CandidatePairs(schedule, 0, index, after, intrinsics, options);
-  pairs.insert(pairs.end(), more.begin(), more.end());
+  const WindowSchedule schedule(whole, std::vector<double>(poses.size(), 0.0));
+  return CandidatePairs(schedule, 0, index, poses, intrinsics, options);
+}
+
+std::vector<FramePair> UnitePairs(std::vector<FramePair> a, const std::vector<FramePair>& b) {
+  a.insert(a.end(), b.begin(), b.end());
   auto key = [](const FramePair& p) { return std::pair(p.a, p.b); };
-  std::sort(pairs.begin(), pairs.end(), [&](const FramePair& x, const FramePair& y) { return key(x) < key(y); });
-  pairs.erase(std::unique(pairs.begin(), pairs.end(), [&](const FramePair& x, const FramePair& y) { return key(x) == key(y); }),
-              pairs.end());
-  return pairs;
+  std::sort(a.begin(), a.end(), [&](const FramePair& x, const FramePair& y) { return key(x) < key(y); });
+  a.erase(std::unique(a.begin(), a.end(), [&](const FramePair& x, const FramePair& y) { return key(x) == key(y); }),
+          a.end());
+  return a;
+}
+
+std::vector<FramePair> CheckPairCache::For(const FeatureIndex& index, const PoseVector& query,
+                                           const CameraIntrinsics& intrinsics, const PairOptions& options) const {
+  auto same = [](const Pose& x, const Pose& y) {
+    return x.translation == y.translation && x.rotation.coeffs() == y.rotation.coeffs();
+  };
+  if (query.size() == poses.size() && std::equal(query.begin(), query.end(), poses.begin(), same)) return pairs;
+  return WholeScanPairs(index, query, intrinsics, options);
+}
+
+void CheckPairCache::Keep(const PoseVector& kept_poses, std::vector<FramePair> kept_pairs) {
+  poses = kept_poses;
+  pairs = std::move(kept_pairs);
 }
 
 nlohmann::json ToJson(const SelfCheckRecord& r) {

@@ -8,7 +8,8 @@
 //
 //   S = 1/N sum_{(a,b) in P} sum_{h in a, then in b} min(d(h)^2, tau^2)
 //
-// with d(h) the distance of h, moved into the other frame by the current poses, from the
+// (at most points_per_pair of each frame's held-out features per pair) with d(h) the
+// distance of h, moved into the other frame by the current poses, from the
 // plane of the nearest plane feature there whose normal agrees within max_angle (among the
 // `neighbours` nearest within search_radius); a held-out feature that lands in the other
 // camera's view (in its image, max_depth deep) but finds no such plane counts tau^2, one
@@ -18,7 +19,8 @@
 //
 // An iteration is compared on one pair set: the pairs that overlap under the poses before it
 // or after it, searched as in one window holding the scan (refine/pairs.h), so that loops
-// count as much as neighbours. An iteration whose S after is above (1 + tolerance) S before
+// count as much as neighbours. The search under the poses before it is the one after the
+// last iteration, kept (CheckPairCache). An iteration whose S after is above (1 + tolerance) S before
 // is not taken: the poses go back to where the iteration started, and the next iteration
 // (larger windows, other correspondences) starts from there.
 
@@ -42,6 +44,10 @@ struct SelfCheckOptions {
   double search_radius = 0.1;   // metres: the nearest features considered
   double max_angle_deg = 30;    // normals that agree
   int neighbours = 4;
+  // Held-out features measured per pair and side, at most (from a point of the frame's list
+  // chosen by the pair, onwards): the score's cost is linear in them, and a scan's thousands
+  // of pairs give it hundreds of thousands of points without all of each frame's.
+  int points_per_pair = 8;
   double tolerance = 0.01;      // S may grow by this share before an iteration is undone
 
   template <class V>
@@ -54,6 +60,7 @@ struct SelfCheckOptions {
     F2C_FIELD(v, search_radius, "", Positive(), "held-out features' search radius (m)");
     F2C_FIELD(v, max_angle_deg, "", AboveUpTo(0, 180), "held-out features' normal agreement (deg)");
     F2C_FIELD(v, neighbours, "", Between(1, 64), "nearest features checked per held-out feature");
+    F2C_FIELD(v, points_per_pair, "", AtLeast(1), "held-out features measured per pair and side, at most");
     F2C_FIELD(v, tolerance, "--self-check-tolerance", AtLeast(0),
               "an iteration is undone when it raises the check's score by more than this share");
   }
@@ -75,9 +82,22 @@ struct SelfCheckScore {
 SelfCheckScore ScoreHeldOut(const std::vector<FramePair>& pairs, const FeatureIndex& index, const PoseVector& poses,
                             const CameraIntrinsics& intrinsics, const SelfCheckOptions& options, double max_depth);
 
-// The pairs of one window holding the scan under either set of poses, sorted and unique.
-std::vector<FramePair> CheckPairs(const FeatureIndex& index, const PoseVector& before, const PoseVector& after,
-                                  const CameraIntrinsics& intrinsics, const PairOptions& options);
+// The pairs that overlap under `poses` as if one window held the scan (refine/pairs.h).
+std::vector<FramePair> WholeScanPairs(const FeatureIndex& index, const PoseVector& poses,
+                                      const CameraIntrinsics& intrinsics, const PairOptions& options);
+// Both lists' pairs, sorted by (a, b), each once.
+std::vector<FramePair> UnitePairs(std::vector<FramePair> a, const std::vector<FramePair>& b);
+
+// The whole-scan pairs of the poses an iteration starts from, kept from the end of the last
+// one: the poses are the same unless something moved them in between (the loops' presolve).
+struct CheckPairCache {
+  PoseVector poses;
+  std::vector<FramePair> pairs;
+  // The pairs under `poses`, searched only when they are not the kept poses.
+  std::vector<FramePair> For(const FeatureIndex& index, const PoseVector& poses, const CameraIntrinsics& intrinsics,
+                             const PairOptions& options) const;
+  void Keep(const PoseVector& kept_poses, std::vector<FramePair> kept_pairs);
+};
 
 // One iteration's check.
 struct SelfCheckRecord {

@@ -56,6 +56,9 @@ TEST(ScoreHeldOut, MeanSquaredTruncatedPointToPlaneDisagreement) {
   SelfCheckOptions o;
   o.every = 2;
   const std::vector<FramePair> pairs = {{0, 1, 1.0f}};
+  // At most points_per_pair (8) held-out features of each side of a pair.
+  EXPECT_EQ(ScoreHeldOut(pairs, TwoViewsOfAWall(Eigen::Vector3f::Zero()), TruePoses(), kCamera, o, 5.0).points, 16);
+  o.points_per_pair = 1000;
   const SelfCheckScore exact = ScoreHeldOut(pairs, TwoViewsOfAWall(Eigen::Vector3f::Zero()), TruePoses(), kCamera, o, 5.0);
   EXPECT_GT(exact.points, 150);
   EXPECT_LT(exact.Rms(), 1e-6);
@@ -73,6 +76,30 @@ TEST(ScoreHeldOut, MeanSquaredTruncatedPointToPlaneDisagreement) {
   const SelfCheckScore none = ScoreHeldOut(pairs, TwoViewsOfAWall(Eigen::Vector3f::Zero()), away, kCamera, o, 5.0);
   EXPECT_EQ(none.points, 0);
   EXPECT_EQ(none.score, 0);
+}
+
+TEST(UnitePairs, SortedEachOnce) {
+  const std::vector<FramePair> u = UnitePairs({{2, 3, 0.5f}, {0, 1, 0.5f}}, {{0, 1, 0.7f}, {1, 4, 0.2f}});
+  ASSERT_EQ(u.size(), 3u);
+  EXPECT_EQ(std::pair(u[0].a, u[0].b), std::pair(0, 1));
+  EXPECT_EQ(std::pair(u[1].a, u[1].b), std::pair(1, 4));
+  EXPECT_EQ(std::pair(u[2].a, u[2].b), std::pair(2, 3));
+}
+
+// The kept pairs come back for the kept poses alone; other poses are searched.
+TEST(CheckPairCache, ReusesThePairsOfTheSamePosesOnly) {
+  const FeatureIndex index = TwoViewsOfAWall(Eigen::Vector3f::Zero());
+  const PairOptions options;
+  const std::vector<FramePair> searched = WholeScanPairs(index, TruePoses(), kCamera, options);
+  ASSERT_EQ(searched.size(), 1u);  // the two views overlap
+  CheckPairCache cache;
+  cache.Keep(TruePoses(), {{0, 1, 0.5f}, {0, 1, 0.25f}});  // marked: not what a search gives
+  EXPECT_EQ(cache.For(index, TruePoses(), kCamera, options).size(), 2u);
+  PoseVector moved = TruePoses();
+  moved[1].translation.y() += 1e-9;
+  const std::vector<FramePair> fresh = cache.For(index, moved, kCamera, options);
+  ASSERT_EQ(fresh.size(), 1u);
+  EXPECT_EQ(std::pair(fresh[0].a, fresh[0].b), std::pair(0, 1));
 }
 
 // E_C never sees a held-out feature: it is neither a correspondence's point nor its target.
