@@ -160,8 +160,8 @@ class SceneBuilder {
   }
 
   // A closed blob round `centre`: a sphere of `radius` whose surface rises and falls by up to
-  // `bumps` of it (a few smooth random lobes): an organic shape with no plane on it. Its
-  // lowest point is at the centre's height minus the radius times (1 - bumps).
+  // `bumps` of it (five smooth random lobes), so it stays within radius (1 +- bumps) of the
+  // centre: an organic shape with no plane on it.
   void AddBlob(const Vec3& centre, double radius, double bumps, std::mt19937_64* rng, Material m) {
     std::uniform_real_distribution<double> u(0.0, 1.0);
     struct Lobe { Vec3 axis; double sharpness, height; };

@@ -44,13 +44,12 @@ struct Wobble {
   }
 };
 
-}  // namespace
 
-void WalkOptions::Check() const {
-  CheckFields(*this);
+// The unit viewing direction of a camera turned by `yaw` about the vertical (from +x) and
+// tilted by `pitch` (up positive), radians.
+Eigen::Vector3d Forward(double yaw, double pitch) {
+  return {std::cos(yaw) * std::cos(pitch), std::sin(yaw) * std::cos(pitch), std::sin(pitch)};
 }
-
-namespace {
 
 // world_from_camera of a camera at `position` looking along `forward` (camera x right,
 // y down, z forward; the image's horizon level), rolled by `roll` about its axis.
@@ -86,15 +85,20 @@ Trajectory OrbitWalk(const Orbit& orbit, const WalkOptions& o) {
                                    orbit.target.y() + radius * std::sin(angle) + o.shake_translation * wy(t),
                                    height + o.shake_translation * wz(t));
     const Eigen::Vector3d to_target = (orbit.target - position).normalized();
-    const double yaw = std::atan2(to_target.y(), to_target.x()) + (kAimDeg * wyaw(0.5 * t) + o.shake_rotation_deg * wyaw(t)) * deg;
-    const double pitch = std::asin(to_target.z()) + (kAimDeg * wpitch(0.5 * t) + o.shake_rotation_deg * wpitch(t)) * deg;
-    const Eigen::Vector3d forward(std::cos(yaw) * std::cos(pitch), std::sin(yaw) * std::cos(pitch), std::sin(pitch));
-    walk.Add(t, LookAlong(position, forward, o.shake_rotation_deg * deg * wroll(t)));
+    const double yaw =
+        std::atan2(to_target.y(), to_target.x()) + (kAimDeg * wyaw(0.5 * t) + o.shake_rotation_deg * wyaw(t)) * deg;
+    const double pitch =
+        std::asin(to_target.z()) + (kAimDeg * wpitch(0.5 * t) + o.shake_rotation_deg * wpitch(t)) * deg;
+    walk.Add(t, LookAlong(position, Forward(yaw, pitch), o.shake_rotation_deg * deg * wroll(t)));
   }
   return walk;
 }
 
 }  // namespace
+
+void WalkOptions::Check() const {
+  CheckFields(*this);
+}
 
 Trajectory GenerateWalk(const Scene& scene, const WalkOptions& o) {
   o.Check();
@@ -138,10 +142,9 @@ Trajectory GenerateWalk(const Scene& scene, const WalkOptions& o) {
                        o.shake_rotation_deg * deg * wyaw(t);
     const double pitch = o.pitch_deg * deg + o.shake_rotation_deg * deg * wpitch(t);
     const double roll = o.shake_rotation_deg * deg * wroll(t);
-    const Eigen::Vector3d forward(std::cos(yaw) * std::cos(pitch), std::sin(yaw) * std::cos(pitch), std::sin(pitch));
     walk.Add(t, LookAlong(Eigen::Vector3d(p.x() + o.shake_translation * wx(t), p.y() + o.shake_translation * wy(t),
                                           o.eye_height + o.shake_translation * wz(t)),
-                          forward, roll));
+                          Forward(yaw, pitch), roll));
   }
   return walk;
 }
