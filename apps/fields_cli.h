@@ -43,6 +43,14 @@ class FieldFlagAdder {
               help)
           ->default_str(NameOf(value))
           ->group(group_);
+    } else if constexpr (std::is_integral_v<T> && std::is_unsigned_v<T>) {
+      // CLI11 reads "-1" into an unsigned as 2^64 - 1: parsed here, so that a negative or
+      // partial number is bad input naming the flag.
+      const std::string name = FieldName(flag, key);
+      cmd_->add_option_function<std::string>(
+              flag, [&value, name](const std::string& text) { value = ParseUnsigned<T>(text, name); }, help)
+          ->default_str(std::to_string(value))
+          ->group(group_);
     } else {
       cmd_->add_option(flag, value, help)->capture_default_str()->group(group_);
     }

@@ -84,6 +84,11 @@ Trajectory ToTrajectory(const Trajectory& like, const PoseVector& poses) {
 
 int RunRegister(const RegisterArgs& args) {
   Timer total;
+  // More would not run faster on any machine, and TBB fails outright on some huge counts.
+  constexpr int kMaxThreads = 1024;
+  if (args.threads < 0 || args.threads > kMaxThreads) {
+    ThrowInputError("--threads", fmt::format("must be in [0, {}], got {}", kMaxThreads, args.threads));
+  }
   std::optional<tbb::global_control> threads;
   if (args.threads > 0) {
     threads.emplace(tbb::global_control::max_allowed_parallelism, args.threads);
@@ -317,8 +322,7 @@ Subcommand AddRegisterCommand(CLI::App* app) {
   cmd->add_flag("--no-report", flags->no_report, "do not write OUTDIR/report.html");
   cmd->add_flag("--no-features", flags->no_features, "skip the feature extraction, and so the refinement (T0 only)");
   cmd->add_flag("--no-cache", flags->no_cache, "ignore and do not write OUTDIR/cache");
-  cmd->add_option("--threads", args->threads, "worker threads (0: all cores; results are the same for any)")
-      ->check(CLI::NonNegativeNumber)
+  cmd->add_option("--threads", args->threads, "worker threads (0: all cores, at most 1024; results are the same for any)")
       ->capture_default_str();
   cmd->add_flag("-q,--quiet", args->quiet, "no progress output");
 

@@ -34,6 +34,10 @@ int RunSimulate(const SimulateArgs& args) {
 }
 
 int RunDemo(const DemoArgs& args) {
+  // The demo evaluates its poses, and a rigid alignment needs three.
+  if (args.frames < 3 || args.frames > 100000) {
+    ThrowInputError("--frames", fmt::format("must be in [3, 100000], got {}", args.frames));
+  }
   Timer timer;
   const fs::path root = args.output;
   std::printf("fine2coarse demo: simulating an apartment scan, registering it, fusing a mesh, evaluating it\n");
@@ -81,10 +85,11 @@ Subcommand AddDemoCommand(CLI::App* app) {
   CLI::App* cmd = app->add_subcommand(
       "demo", "no download needed: simulate an apartment scan, register it, evaluate it");
   cmd->add_option("-o,--output", args->output, "output folder")->capture_default_str();
-  cmd->add_option("--frames", args->frames, "frames to simulate (at most 100,000)")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 100000));
-  cmd->add_option("--seed", args->seed, "seed")->capture_default_str();
+  cmd->add_option("--frames", args->frames, "frames to simulate (3 to 100,000)")->capture_default_str();
+  cmd->add_option_function<std::string>(
+         "--seed", [seed = &args->seed](const std::string& text) { *seed = ParseUnsigned<uint64_t>(text, "--seed"); },
+         "seed")
+      ->default_str(std::to_string(args->seed));
   return {cmd, [args] { return RunDemo(*args); }};
 }
 

@@ -52,6 +52,31 @@ TEST(Cli, OutOfRangeOptionsAreOneLineNamingTheFlag) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// Words an enumeration does not know, negative or partial whole numbers for seeds, a thread
+// count no machine has and a demo too short to evaluate: one line naming the flag, exit 1,
+// before any output.
+TEST(Cli, UnknownWordsNegativeSeedsAndAbsurdCountsAreOneLine) {
+  const fs::path out = testing::FreshTempDir("cli_words") / "x";
+  const std::string seeds = "error: --seed: must be a whole number from 0 to 18446744073709551615, got ";
+  const std::pair<std::string, std::string> rows[] = {
+      {"register /tmp -o " + out.string() + " --local-spans keyframe",
+       "error: --local-spans: unknown value 'keyframe' (frames, keyframes)\n"},
+      {"register /tmp -o " + out.string() + " --seed -1", seeds + "'-1'\n"},
+      {"register /tmp -o " + out.string() + " --refine-seed 1x",
+       "error: --refine-seed: must be a whole number from 0 to 18446744073709551615, got '1x'\n"},
+      {"register /tmp -o " + out.string() + " --threads 100000", "error: --threads: must be in [0, 1024], got 100000\n"},
+      {"simulate -o " + out.string() + " --seed -1", seeds + "'-1'\n"},
+      {"demo -o " + out.string() + " --seed -5", seeds + "'-5'\n"},
+      {"demo -o " + out.string() + " --frames 2", "error: --frames: must be in [3, 100000], got 2\n"},
+  };
+  for (const auto& [args, message] : rows) {
+    const Result r = RunCli(args);
+    EXPECT_EQ(r.code, 1) << args;
+    EXPECT_EQ(r.output, message) << args;
+  }
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(Cli, MissingInputExitsOneWithOneLine) {
   const Result r = RunCli("info /no/such/folder");
   EXPECT_EQ(r.code, 1);

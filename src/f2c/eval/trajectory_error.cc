@@ -43,6 +43,9 @@ AteResult ComputeAte(const Trajectory& estimate, const Trajectory& ground_truth,
                      const EvaluationOptions& options) {
   const auto matches =
       internal::AssociateTimestamps(estimate.timestamps, ground_truth.timestamps, options.max_time_difference);
+  if (estimate.size() < 3) {
+    ThrowInputError("estimate", fmt::format("{} poses: a rigid alignment needs at least 3", estimate.size()));
+  }
   if (matches.size() < 3) {
     ThrowInputError("estimate", fmt::format("only {} of {} poses have a ground-truth pose within {} s; "
                                             "time stamps from another sequence?",

@@ -70,6 +70,20 @@ TEST(ComputeAte, TooFewAssociationsIsAnInputError) {
   }
 }
 
+// Two poses, both associated: too few to align, which says so rather than blaming the time
+// stamps.
+TEST(ComputeAte, FewerThanThreePosesIsAnInputError) {
+  Trajectory gt, est;
+  for (int i = 0; i < 5; ++i) gt.Add(i, At(i, 0, 0));
+  for (int i = 0; i < 2; ++i) est.Add(i, At(i, 0, 0));
+  try {
+    ComputeAte(est, gt);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "estimate: 2 poses: a rigid alignment needs at least 3");
+  }
+}
+
 // Ground truth moves 1 m per second along x; the estimate 1.1 m per second and yaws 10 degrees
 // per second. Each 1-second relative motion then errs by exactly 0.1 m... in the estimate's
 // frame: E = gt_rel^-1 est_rel, gt_rel = (I, (1,0,0)), est_rel = (Rz(10deg), (1.1,0,0)) in

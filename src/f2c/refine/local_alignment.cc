@@ -163,7 +163,7 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
     out.push_back(c);
   };
   const int max_span = 1 << options.max_power;
-  if (options.spans == "keyframes") {
+  if (options.spans == LocalSpans::kKeyframes) {
     std::vector<int> keyframes = {0};
     for (int k = 1; k < n; ++k) {
       add(reference[k], k);

@@ -45,6 +45,9 @@
 
 namespace f2c {
 
+enum class LocalSpans { kFrames, kKeyframes };
+F2C_ENUM_NAMES(LocalSpans, {{LocalSpans::kFrames, "frames"}, {LocalSpans::kKeyframes, "keyframes"}})
+
 struct LocalAlignmentOptions {
   // k_max: frames j + 1, ..., j + 2^k_max. The paper spans up to 16 frames (k_max 4); here
   // consecutive frames only (0). A long span carries the drift of every pair it crosses as
@@ -80,11 +83,11 @@ struct LocalAlignmentOptions {
   // with one weight each, E_L held the roll and slide that a run of fallbacks facing a plain
   // wall had taken from the prior as firmly as what their depth measured.
   bool icp_information = true;
-  // Which pairs: "frames": j and j + 2^k over all frames (the paper), plus each frame and its
-  // reference; "keyframes": each frame and its reference (the odometry's own measurements),
+  // Which pairs: kFrames, j and j + 2^k over all frames (the paper), plus each frame and its
+  // reference; kKeyframes, each frame and its reference (the odometry's own measurements),
   // plus keyframes i and i + 2^k over the keyframes (k >= 1). Without keyframe odometry the
   // two are the same.
-  std::string spans = "frames";
+  LocalSpans spans = LocalSpans::kFrames;
 
   template <class V>
   void Fields(V& v) {

@@ -24,6 +24,7 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -94,6 +95,18 @@ E FromName(const std::string& name, const std::string& what) {
     if (name == n.name) return n.value;
   }
   ThrowInputError(what, fmt::format("unknown value '{}' ({})", name, NamesOf<E>()));
+}
+
+// A whole number >= 0 of type T from `text` (all of it), or InputError naming `what`.
+template <class T>
+T ParseUnsigned(const std::string& text, const std::string& what) {
+  T value{};
+  const char* end = text.data() + text.size();
+  const auto [at, error] = std::from_chars(text.data(), end, value);
+  if (text.empty() || error != std::errc() || at != end) {
+    ThrowInputError(what, fmt::format("must be a whole number from 0 to {}, got '{}'", std::numeric_limits<T>::max(), text));
+  }
+  return value;
 }
 
 #define F2C_FIELD(v, member, flag, bounds, help) (v).Field(member, #member, flag, bounds, help)
