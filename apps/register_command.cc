@@ -212,6 +212,7 @@ int RunRegister(const RegisterArgs& args) {
                     {"initial_child_normal_spread_deg", refined.initial_child_normal_spread_deg},
                     {"coplanarity_noise_factor", refined.coplanarity_noise_factor},
                     {"self_check_undone_iterations", refined.undone_iterations},
+                    {"self_check", ToJson(refined.self_check)},
                     {"iterations", iterations}};
     spdlog::info("refinement: {} iterations in {:.1f} s ({:.1f} ms per frame)", refined.iterations.size(),
                  refined.seconds + index_s, 1000.0 * (refined.seconds + index_s) / seq.frames.size());

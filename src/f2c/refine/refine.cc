@@ -96,6 +96,7 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
             "one index entry per frame, one odometry pair per frame after the first");
   RefineResult result;
   for (const Rigid3d& pose : t0.world_from_camera) result.poses.push_back(Pose::FromRigid(pose));
+  const PoseVector start = result.poses;
   const std::vector<double> path = CameraPath(t0);
   const WindowSchedule schedule(options.windows, path);
   Constraints constraints;
@@ -294,6 +295,24 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     }
     result.iterations.push_back(s);
     if (run.keep_iterations) result.iteration_poses.push_back(result.poses);
+  }
+  // The whole run against where it started: each iteration may raise the check by up to its
+  // tolerance, and so many of them by more. A run that ends further from agreeing than it
+  // started gives back its start.
+  if (options.self_check.enabled && !result.iterations.empty()) {
+    SelfCheckRecord& r = result.self_check;
+    const std::vector<FramePair> pairs = UnitePairs(WholeScanPairs(index, start, intrinsics, options.pairs),
+                                                    check_cache.For(index, result.poses, intrinsics, options.pairs));
+    r.done = true;
+    r.before = ScoreHeldOut(pairs, index, start, intrinsics, options.self_check, options.pairs.max_depth);
+    r.after = ScoreHeldOut(pairs, index, result.poses, intrinsics, options.self_check, options.pairs.max_depth);
+    if (r.after.score > (1 + options.self_check.run_tolerance) * r.before.score) {
+      r.undone = true;
+      result.poses = start;
+      spdlog::warn("self-check: the refinement left overlapping frames agreeing less than at its start ({:.4f} -> "
+                   "{:.4f} m RMS); the initial poses are kept",
+                   r.before.Rms(), r.after.Rms());
+    }
   }
   result.seconds = total.Seconds();
   return result;

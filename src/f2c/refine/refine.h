@@ -215,6 +215,9 @@ struct RefineResult {
   double initial_child_normal_spread_deg = 0;
   double coplanarity_noise_factor = 1;
   int undone_iterations = 0;  // iterations the self-check did not take
+  // The self-check of the whole run: the initial poses against the final ones; undone: the
+  // final ones agreed less (by more than the tolerance), and `poses` are the initial ones.
+  SelfCheckRecord self_check;
   double seconds = 0;
 };
 

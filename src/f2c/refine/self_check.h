@@ -22,7 +22,9 @@
 // count as much as neighbours. The search under the poses before it is the one after the
 // last iteration, kept (CheckPairCache). An iteration whose S after is above (1 + tolerance) S before
 // is not taken: the poses go back to where the iteration started, and the next iteration
-// (larger windows, other correspondences) starts from there.
+// (larger windows, other correspondences) starts from there. At the end the same comparison
+// between the initial and the final poses (run_tolerance): a run that leaves the frames
+// agreeing less than they did at its start gives back its initial poses.
 
 #include <nlohmann/json_fwd.hpp>
 #include <vector>
@@ -49,6 +51,9 @@ struct SelfCheckOptions {
   // of pairs give it hundreds of thousands of points without all of each frame's.
   int points_per_pair = 8;
   double tolerance = 0.01;      // S may grow by this share before an iteration is undone
+  // ...and over the whole run (initial poses against final), before the initial poses are
+  // given back: each iteration may add up to `tolerance`.
+  double run_tolerance = 0.01;
 
   template <class V>
   void Fields(V& v) {
@@ -63,6 +68,8 @@ struct SelfCheckOptions {
     F2C_FIELD(v, points_per_pair, "", AtLeast(1), "held-out features measured per pair and side, at most");
     F2C_FIELD(v, tolerance, "--self-check-tolerance", AtLeast(0),
               "an iteration is undone when it raises the check's score by more than this share");
+    F2C_FIELD(v, run_tolerance, "--self-check-run-tolerance", AtLeast(0),
+              "the initial poses are kept when the whole run raises the check's score by more than this share");
   }
   void Check() const;
 };
