@@ -92,6 +92,16 @@ std::string RegisterReport(const RgbdSequence& seq, const Odometry& odometry, co
                             frames / run["total_wall_s"].get<double>())},
       {"peak memory", fmt::format("{:.0f} MiB", run["peak_memory_bytes"].get<double>() / 1048576.0)},
   };
+  if (stages["refine"].is_object() && stages["refine"].contains("self_check") &&
+      stages["refine"]["self_check"].is_object()) {
+    const json& check = stages["refine"]["self_check"];
+    in.facts.emplace_back(
+        "self-check", fmt::format("held-out features {:.1f} mm RMS off the other frames at the start, {:.1f} at the end; "
+                                  "{} iterations undone{}",
+                                  1000 * check["before"]["rms_m"].get<double>(), 1000 * check["after"]["rms_m"].get<double>(),
+                                  stages["refine"]["self_check_undone_iterations"].get<int>(),
+                                  check["undone"].get<bool>() ? "; the run agreed less: its initial poses kept" : ""));
+  }
   in.options_json = run["options"].dump(2);
   if (seq.ground_truth) {
     in.ground_truth = *seq.ground_truth;

@@ -158,12 +158,22 @@ TEST(Cli, RegisterRefinesAndKeepsT0) {
 
 // An object scan (simulate --scene object): the camera circles a table of curved and
 // cluttered objects, walls out of the sensor's reach. The refinement makes T0 better, by
-// the trajectory and by the ground-truth correspondences.
+// the trajectory and by the ground-truth correspondences, and its self-check agrees.
 TEST(Cli, RegisterRefinesASimulatedObjectScan) {
   const fs::path dir = testing::FreshTempDir("cli_object");
   ASSERT_EQ(RunCli("simulate --scene object --frames 150 --seed 2 -q -o " + (dir / "scan").string()).code, 0);
-  const Result r = RunCli("register " + (dir / "scan").string() + " -q --no-mesh --no-report -o " + (dir / "out").string());
+  const Result r = RunCli("register " + (dir / "scan").string() + " -q --no-mesh -o " + (dir / "out").string());
   ASSERT_EQ(r.code, 0) << r.output;
+  // The self-check's record: every iteration's, the run's (which kept the result), the report's line.
+  const nlohmann::json refine = nlohmann::json::parse(ReadFileToString(dir / "out" / "run.json"))["stages"]["refine"];
+  for (const nlohmann::json& it : refine["iterations"]) {
+    EXPECT_GT(it["self_check"]["before"]["points"].get<int>(), 1000);
+    EXPECT_EQ(it["self_check"]["undone"].get<bool>(), false);
+  }
+  EXPECT_EQ(refine["self_check_undone_iterations"].get<int>(), 0);
+  EXPECT_LT(refine["self_check"]["after"]["rms_m"].get<double>(), refine["self_check"]["before"]["rms_m"].get<double>());
+  EXPECT_FALSE(refine["self_check"]["undone"].get<bool>());
+  EXPECT_NE(ReadFileToString(dir / "out" / "report.html").find("0 iterations undone"), std::string::npos);
   auto measure = [&](const std::string& name) {
     const Result e = RunCli("evaluate --json --estimate " + (dir / "out" / name).string() + " --ground-truth " +
                             (dir / "scan").string(), " 2>/dev/null");
