@@ -164,6 +164,23 @@ TEST(RefineFineToCoarse, RecoversPerturbedPosesOnExactGeometry) {
   EXPECT_LT(max_r, 0.05);
 }
 
+// A tamper for RefineRun: in iteration `wrong`, the correspondences between the scan's two
+// halves are moved as if the second half stood 5 cm further along x (in each target's
+// coordinates, by its pose in `poses`), so that the solve drags it there.
+std::function<void(int, std::vector<FeatureCorrespondence>*)> DragSecondHalf(const Trajectory& poses, int wrong) {
+  return [&poses, wrong](int iteration, std::vector<FeatureCorrespondence>* correspondences) {
+    if (iteration != wrong) return;
+    const int n = static_cast<int>(poses.size());
+    for (FeatureCorrespondence& c : *correspondences) {
+      const bool point_second = c.point_frame >= n / 2, target_second = c.target_frame >= n / 2;
+      if (point_second == target_second) continue;
+      const Eigen::Vector3d shift =
+          poses.world_from_camera[c.target_frame].linear().transpose() * Eigen::Vector3d(0.05, 0, 0);
+      c.target_point += (point_second ? 1.0f : -1.0f) * shift.cast<float>();
+    }
+  };
+}
+
 // The self-check (refine/self_check.h): an iteration whose correspondences are made wrong on
 // purpose (those between the two halves of the scan are moved as if the second half stood 5
 // cm further along x, so the solve drags it there) makes the held-out features agree less,
@@ -171,7 +188,6 @@ TEST(RefineFineToCoarse, RecoversPerturbedPosesOnExactGeometry) {
 TEST(RefineFineToCoarse, SelfCheckUndoesAnIterationMadeToGoWrong) {
   ExactRoom room;
   room.options.windows.polish_iterations = 4;
-  const int n = static_cast<int>(room.t0.size());
   const int wrong = 5;  // the first polish iteration
   auto refine = [&](bool check) {
     RefineOptions options = room.options;
@@ -179,17 +195,7 @@ TEST(RefineFineToCoarse, SelfCheckUndoesAnIterationMadeToGoWrong) {
     RefineRun run;
     run.quiet = true;
     run.keep_iterations = true;
-    run.tamper = [&](int iteration, std::vector<FeatureCorrespondence>* correspondences) {
-      if (iteration != wrong) return;
-      for (FeatureCorrespondence& c : *correspondences) {
-        const bool point_second = c.point_frame >= n / 2, target_second = c.target_frame >= n / 2;
-        if (point_second == target_second) continue;
-        // The shift in the target's coordinates: the point's frame moved by +x or -x.
-        const Eigen::Vector3d shift =
-            room.t0.world_from_camera[c.target_frame].linear().transpose() * Eigen::Vector3d(0.05, 0, 0);
-        c.target_point += (point_second ? 1.0f : -1.0f) * shift.cast<float>();
-      }
-    };
+    run.tamper = DragSecondHalf(room.t0, wrong);
     return RefineFineToCoarse(BuildFeatureIndex(room.scan.features, options.features), room.pairs, room.t0,
                               room.scan.intrinsics, options, run);
   };
@@ -226,22 +232,12 @@ TEST(RefineFineToCoarse, SelfCheckGivesBackTheStartWhenTheRunEndsWorse) {
   ExactRoom room;
   room.options.windows.polish_iterations = 4;
   room.t0 = room.scan.truth;
-  const int n = static_cast<int>(room.t0.size());
   auto refine = [&](double iteration_tolerance) {
     RefineOptions options = room.options;
     options.self_check.tolerance = iteration_tolerance;
     RefineRun run;
     run.quiet = true;
-    run.tamper = [&](int iteration, std::vector<FeatureCorrespondence>* correspondences) {
-      if (iteration != 5) return;
-      for (FeatureCorrespondence& c : *correspondences) {
-        const bool point_second = c.point_frame >= n / 2, target_second = c.target_frame >= n / 2;
-        if (point_second == target_second) continue;
-        const Eigen::Vector3d shift =
-            room.t0.world_from_camera[c.target_frame].linear().transpose() * Eigen::Vector3d(0.05, 0, 0);
-        c.target_point += (point_second ? 1.0f : -1.0f) * shift.cast<float>();
-      }
-    };
+    run.tamper = DragSecondHalf(room.t0, 5);
     return RefineFineToCoarse(BuildFeatureIndex(room.scan.features, options.features), room.pairs, room.t0,
                               room.scan.intrinsics, options, run);
   };
