@@ -13,6 +13,7 @@
 #include "f2c/fusion/fuse.h"
 #include "f2c/io/sequence.h"
 #include "f2c/odometry/odometry.h"
+#include "f2c/pipeline/register.h"
 #include "f2c/refine/refine.h"
 #include "f2c/sim/simulate.h"
 
@@ -36,21 +37,12 @@ struct RegisterArgs {
   std::string input;
   std::string output;
   IoOptions io;
-  OdometryOptions odometry;
-  FeatureOptions features;
-  bool extract_features = true;  // the refinement's input; cached in OUTDIR/cache/features.f2cf
-  RefineOptions refine;
-  bool run_refinement = true;     // false: --stop-after odometry (T0 is the result)
+  RegisterOptions options;  // the stages' options (pipeline/register.h)
   // The refinement starts from these poses instead of T0 (--initial-trajectory; empty: T0).
-  // E_L still holds the odometry's relative poses.
   std::string initial_trajectory;
-  bool save_iterations = false;   // OUTDIR/iterations/iteration_NN.txt
-  bool fuse_mesh = true;           // OUTDIR/mesh.ply from the final poses (--no-mesh: off)
-  bool write_report = true;        // OUTDIR/report.html (--no-report: off)
-  FusionOptions fusion;
-  int threads = 0;                 // worker threads (0: all cores); results do not depend on it
-  bool use_cache = true;
-  bool quiet = false;
+  bool save_iterations = false;  // OUTDIR/iterations/iteration_NN.txt
+  bool write_report = true;      // OUTDIR/report.html (--no-report: off)
+  bool use_cache = true;         // OUTDIR/cache (--no-cache: off)
 };
 int RunRegister(const RegisterArgs& args);
 

@@ -7,9 +7,8 @@
 #include <optional>
 
 #include "apps/commands.h"
-#include "apps/common.h"
 #include "apps/fields_cli.h"
-#include "apps/run_report.h"
+#include "f2c/report/embed.h"
 #include "f2c/eval/correspondence_error.h"
 #include "f2c/eval/mesh_error.h"
 #include "f2c/eval/trajectory_error.h"

@@ -9,7 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "apps/commands.h"
-#include "apps/common.h"
+#include "f2c/pipeline/outputs.h"
 #include "apps/feature_views.h"
 #include "apps/fields_cli.h"
 #include "f2c/features/feature_set.h"

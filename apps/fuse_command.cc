@@ -7,9 +7,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "apps/commands.h"
-#include "apps/common.h"
 #include "apps/fields_cli.h"
-#include "apps/mesh_views.h"
+#include "f2c/report/mesh_views.h"
 #include "f2c/util/error.h"
 #include "f2c/util/fields_json.h"
 #include "f2c/util/file.h"

@@ -8,7 +8,6 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/commands.h"
-#include "apps/common.h"
 #include "apps/fields_cli.h"
 #include "f2c/io/image.h"
 

@@ -7,7 +7,6 @@
 #include <memory>
 
 #include "apps/commands.h"
-#include "apps/common.h"
 #include "apps/fields_cli.h"
 #include "f2c/sim/simulate.h"
 #include "f2c/util/timer.h"

@@ -1,6 +1,8 @@
 #include "f2c/fusion/fuse.h"
 
 #include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
 
@@ -118,6 +120,21 @@ FusionResult FuseTsdf(const RgbdSequence& seq, const std::vector<std::optional<R
   t.mesh = mesh_timer.Seconds();
   t.wall = wall.Seconds();
   return result;
+}
+
+nlohmann::json ToJson(const FusionTimings& t, const PlyPoints& mesh) {
+  const double frames = std::max(t.frames_fused, 1);
+  return {{"frames_fused", t.frames_fused},
+          {"frames_without_pose", t.frames_without_pose},
+          {"wall_s", t.wall},
+          {"integrate_s", t.integrate},
+          {"mesh_s", t.mesh},
+          {"decode_cpu_s", t.decode_cpu},
+          {"ms_per_frame", 1000.0 * t.wall / frames},
+          {"blocks", t.blocks},
+          {"volume_bytes", t.volume_bytes},
+          {"vertices", mesh.positions.size()},
+          {"triangles", mesh.faces.size()}};
 }
 
 }  // namespace f2c

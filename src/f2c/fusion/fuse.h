@@ -3,6 +3,7 @@
 // as a coloured triangle mesh (tsdf.h, marching_cubes.h, docs/fusion.md).
 
 #include <filesystem>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <vector>
 
@@ -53,5 +54,8 @@ FusionResult FuseTsdf(const RgbdSequence& sequence, const std::vector<std::optio
 // InputError naming `file` when no frame gets a pose or a frame id is out of range.
 std::vector<std::optional<Rigid3d>> PosesForFrames(const RgbdSequence& sequence, const Trajectory& trajectory,
                                                    double max_time_difference, const std::filesystem::path& file);
+
+// The stage's record in run.json (with the mesh's size).
+nlohmann::json ToJson(const FusionTimings& timings, const PlyPoints& mesh);
 
 }  // namespace f2c

@@ -184,4 +184,14 @@ std::string CacheContext(const RgbdSequence& seq, const std::string& options_jso
   return context;
 }
 
+Trajectory LoadGroundTruth(const fs::path& path, IoOptions io, std::optional<RgbdSequence>* dataset) {
+  if (fs::is_directory(path) || path.extension() == ".conf") {
+    io.check_files = false;
+    *dataset = ReadSequence(path, io);
+    if (!(*dataset)->ground_truth) ThrowInputError(path, "dataset has no ground-truth trajectory");
+    return *(*dataset)->ground_truth;
+  }
+  return ReadTrajectoryFile(path);
+}
+
 }  // namespace f2c

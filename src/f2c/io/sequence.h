@@ -85,6 +85,11 @@ struct IoOptions {
 // InputError with one line naming the file and what is wrong.
 RgbdSequence ReadSequence(const std::filesystem::path& path, const IoOptions& options = {});
 
+// Ground truth from a trajectory file or a dataset folder (or .conf; then `*dataset` holds
+// it: its frame time stamps place estimates that carry frame ids, and its frames feed the
+// report). InputError naming `path` when a dataset has none.
+Trajectory LoadGroundTruth(const std::filesystem::path& path, IoOptions io, std::optional<RgbdSequence>* dataset);
+
 // The layout of `path`, or InputError("<path>: unknown dataset layout ...").
 DatasetLayout DetectLayout(const std::filesystem::path& path);
 

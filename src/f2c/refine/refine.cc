@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "f2c/util/error.h"
+#include "f2c/util/progress.h"
 #include "f2c/util/timer.h"
 
 namespace f2c {
@@ -145,6 +146,8 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     return it < schedule.iterations() + options.windows.max_added_polish && !result.iterations.empty() &&
            result.iterations.back().rms_translation_change > options.windows.polish_tolerance;
   };
+  // Heard by a progress listener only: each iteration has a log line of its own.
+  Progress progress("refine", schedule.iterations(), /*quiet=*/true);
   for (int it = 0; more(it); ++it) {
     Timer timer;
     IterationSummary s;
@@ -295,7 +298,9 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     }
     result.iterations.push_back(s);
     if (run.keep_iterations) result.iteration_poses.push_back(result.poses);
+    if (it < schedule.iterations()) progress.Advance();
   }
+  progress.Finish();
   // The whole run against where it started: each iteration may raise the check by up to its
   // tolerance, and so many of them by more. A run that ends further from agreeing than it
   // started gives back its start.

@@ -6,21 +6,46 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <utility>
 
 namespace f2c {
+namespace {
+
+thread_local ProgressListener current_listener;
+
+}  // namespace
+
+ScopedProgressListener::ScopedProgressListener(ProgressListener listener)
+    : previous_(std::exchange(current_listener, std::move(listener))) {}
+
+ScopedProgressListener::~ScopedProgressListener() { current_listener = std::move(previous_); }
 
 Progress::Progress(std::string label, long total, bool quiet)
-    : label_(std::move(label)), total_(total), quiet_(quiet || total <= 0) {
+    : label_(std::move(label)), total_(total), quiet_(quiet || total <= 0), listener_(current_listener) {
   terminal_ = isatty(fileno(stderr)) && std::getenv("CI") == nullptr;
+  if (listener_ && total_ > 0) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    Tell(0, false);
+  }
 }
 
 Progress::~Progress() { Finish(); }
 
+void Progress::Tell(long done, bool final_call) {
+  if (!listener_ || total_ <= 0) return;
+  const double now = timer_.Seconds();
+  if (!final_call && done < total_ && now - last_told_ < 0.1 && last_told_ >= 0) return;
+  last_told_ = now;
+  listener_(label_, done, total_);
+}
+
 void Progress::Advance(long n) {
   const long done = done_.fetch_add(n) + n;
-  if (quiet_) return;
+  if (quiet_ && !listener_) return;
   std::lock_guard<std::mutex> lock(mutex_);
   if (finished_) return;
+  Tell(done_.load(), false);  // read under the lock, so the listener hears counts that never go back
+  if (quiet_) return;
   if (terminal_) {
     const double now = timer_.Seconds();
     if (now - last_draw_ < 0.1 && done < total_) return;  // redraw at most 10 times a second
@@ -36,11 +61,12 @@ void Progress::Advance(long n) {
 }
 
 void Progress::Finish() {
-  if (quiet_) return;
+  if (quiet_ && !listener_) return;
   std::lock_guard<std::mutex> lock(mutex_);
   if (finished_) return;
   finished_ = true;
-  Draw(done_.load(), true);
+  Tell(done_.load(), true);
+  if (!quiet_) Draw(done_.load(), true);
 }
 
 void Progress::Draw(long done, bool final_line) {

@@ -4,12 +4,31 @@
 // Thread-safe: workers call Advance() from any thread.
 
 #include <atomic>
+#include <functional>
 #include <mutex>
 #include <string>
 
 #include "f2c/util/timer.h"
 
 namespace f2c {
+
+// Told of every stage's progress (its label, units done, units in all) besides the bar, for
+// embedders that draw their own (the Python module). Called at most ten times a second per
+// stage and once at its end, from whichever thread advanced it, under the stage's lock.
+using ProgressListener = std::function<void(const std::string& stage, long done, long total)>;
+
+// While one lives, the Progress objects its thread constructs report to `listener` (also
+// when quiet). Scopes nest; the innermost wins.
+class ScopedProgressListener {
+ public:
+  explicit ScopedProgressListener(ProgressListener listener);
+  ~ScopedProgressListener();
+  ScopedProgressListener(const ScopedProgressListener&) = delete;
+  ScopedProgressListener& operator=(const ScopedProgressListener&) = delete;
+
+ private:
+  ProgressListener previous_;
+};
 
 class Progress {
  public:
@@ -26,9 +45,13 @@ class Progress {
  private:
   void Draw(long done, bool final_line);
 
+  void Tell(long done, bool final_call);  // the listener, under mutex_
+
   std::string label_;
   long total_;
   bool quiet_;
+  ProgressListener listener_;
+  double last_told_ = -1.0;
   bool terminal_;
   std::atomic<long> done_{0};
   std::mutex mutex_;

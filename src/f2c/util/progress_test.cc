@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <regex>
 #include <sstream>
+#include <tuple>
 
 namespace f2c {
 namespace {
@@ -69,6 +70,28 @@ TEST(Progress, QuietOrEmptyPrintsNothing) {
     Progress empty("empty", 0);
   }
   EXPECT_TRUE(capture.Lines().empty());
+}
+
+TEST(Progress, ListenerHearsTheStartAndTheEndEvenWhenQuiet) {
+  LogCapture capture;
+  std::vector<std::tuple<std::string, long, long>> heard;
+  {
+    ScopedProgressListener listener(
+        [&](const std::string& stage, long done, long total) { heard.emplace_back(stage, done, total); });
+    Progress progress("stage", 1000, /*quiet=*/true);
+    tbb::parallel_for(0, 1000, [&](int) { progress.Advance(); });
+    progress.Finish();
+    progress.Finish();
+  }
+  Progress after("unheard", 5, /*quiet=*/true);  // the scope has ended
+  after.Advance(5);
+  ASSERT_GE(heard.size(), 2u);
+  EXPECT_EQ(heard.front(), std::make_tuple(std::string("stage"), 0L, 1000L));
+  EXPECT_EQ(heard.back(), std::make_tuple(std::string("stage"), 1000L, 1000L));
+  // At most ten a second besides the first and the last: the loop takes well under a second.
+  EXPECT_LE(heard.size(), 4u);
+  for (size_t i = 1; i < heard.size(); ++i) EXPECT_LE(std::get<1>(heard[i - 1]), std::get<1>(heard[i]));
+  EXPECT_EQ(capture.Lines().size(), 0u);  // quiet: no line of its own
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 #pragma once
-// Pictures of a mesh, to look at (visualisation stays out of the library stages): the mesh
+// Pictures of a mesh for the reports and `fuse --pictures` (not a pipeline stage): the mesh
 // rasterised with a depth buffer, vertex colours shaded by how squarely each surface faces
 // the viewer.
 
@@ -8,7 +8,7 @@
 
 #include "f2c/io/ply.h"
 
-namespace f2c::app {
+namespace f2c {
 
 struct MeshView {
   Eigen::Matrix3d camera_from_world = Eigen::Matrix3d::Identity();  // rows: image right, image down, viewing direction
@@ -33,4 +33,4 @@ MeshView PerspectiveView(const PlyPoints& mesh, const Eigen::Vector3d& up, const
 // 8-bit BGR picture; the background is white.
 cv::Mat RenderMesh(const PlyPoints& mesh, const MeshView& view);
 
-}  // namespace f2c::app
+}  // namespace f2c

@@ -1,4 +1,4 @@
-#include "apps/mesh_views.h"
+#include "f2c/report/mesh_views.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -8,7 +8,7 @@
 
 #include "f2c/geometry/up.h"
 
-namespace f2c::app {
+namespace f2c {
 namespace {
 
 double Percentile(std::vector<double> v, double q) {
@@ -147,4 +147,4 @@ cv::Mat RenderMesh(const PlyPoints& mesh, const MeshView& v) {
   return image;
 }
 
-}  // namespace f2c::app
+}  // namespace f2c
