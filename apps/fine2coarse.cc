@@ -22,6 +22,7 @@
 #include <spdlog/spdlog.h>
 #include <vector>
 
+#include "apps/cli_reference.h"
 #include "apps/commands.h"
 #include "f2c/optim/blas_threads.h"
 #include "f2c/util/error.h"
@@ -34,6 +35,8 @@ int main(int argc, char** argv) {
   CLI::App app{"fine2coarse: fine-to-coarse global registration of RGB-D scans"};
   app.require_subcommand(1);
   app.set_version_flag("--version", F2C_VERSION);
+  // `register --help` lists the options users set; `register --help-all` every one, grouped.
+  app.set_help_all_flag("--help-all", "every option, grouped (--help: the ones users set)");
   // Runs reproducible from a file: options in TOML/INI, one section per subcommand
   // ([register]); an unknown key is an error, not a hint. register --write-config writes one.
   app.set_config("--config", "", "read options from a TOML/INI file ([register] section; --write-config writes one)");
@@ -43,7 +46,7 @@ int main(int argc, char** argv) {
   const std::vector<Subcommand> commands = {AddRegisterCommand(&app), AddFeaturesCommand(&app),
                                             AddEvaluateCommand(&app), AddSimulateCommand(&app),
                                             AddDemoCommand(&app),     AddInfoCommand(&app),
-                                            AddFuseCommand(&app)};
+                                            AddFuseCommand(&app),     AddCliReferenceCommand(&app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

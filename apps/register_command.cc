@@ -5,11 +5,13 @@
 
 #include <cstdio>
 #include <memory>
+#include <set>
 #include <sstream>
+#include <vector>
 
 #include "apps/commands.h"
 #include "apps/fields_cli.h"
-#include "apps/refine_options.h"
+#include "apps/help_format.h"
 #include "f2c/pipeline/outputs.h"
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
@@ -24,6 +26,16 @@ namespace {
 struct RegisterFlags {
   bool no_cache = false, no_features = false, no_mesh = false, no_report = false;
   std::string stop_after = "refine";
+  Preset preset = Preset::kDefault;
+};
+
+// What `register --help` lists: the input and its frames, what to write, how to run. Every
+// other option is in --help-all.
+const std::vector<HelpSection> kEverydayOptions = {
+    {"Input", {"output", "intrinsics", "every", "first", "last", "sequence", "min-depth", "max-depth"}},
+    {"Output", {"voxel-size", "no-mesh", "no-report", "save-iterations", "no-cache", "write-config"}},
+    {"Registration", {"preset", "stop-after", "initial-trajectory", "structure", "self-check", "seed"}},
+    {"Running", {"threads", "quiet", "help"}},
 };
 
 }  // namespace
@@ -80,7 +92,13 @@ Subcommand AddRegisterCommand(CLI::App* app) {
                   "then the mesh")
       ->check(CLI::IsMember({"odometry", "refine"}))
       ->capture_default_str();
-  const std::function<void()> refine_names = AddRefineOptions(cmd, &args->options.refine);
+  cmd->add_option_function<std::string>(
+         "--preset", [flags](const std::string& text) { flags->preset = FromName<Preset>(text, "--preset"); },
+         "fast: a 2 cm mesh, 3 polish iterations, no self-check (faster, a little less accurate); default; paper: "
+         "the paper's algorithm only (no SIFT loops, E_V, polish iterations, information-weighted E_L or "
+         "self-check). Options given beside it win")
+      ->default_str("default");
+  AddFieldFlags(cmd, &args->options.refine);  // refine/refine.h
   auto write_config = std::make_shared<std::string>();
   cmd->add_option("--write-config", *write_config, "write this run's options (all of them) to FILE as TOML, for --config")
       ->group("Output");
@@ -99,14 +117,25 @@ Subcommand AddRegisterCommand(CLI::App* app) {
       ->capture_default_str();
   cmd->add_flag("-q,--quiet", args->options.quiet, "no progress output");
 
-  return {cmd, [app, args, flags, refine_names, write_config] {
-    refine_names();
+  cmd->formatter(std::make_shared<EverydayHelp>(kEverydayOptions));
+
+  return {cmd, [app, cmd, args, flags, write_config] {
+    ApplyPreset(flags->preset, &args->options, [cmd](const std::string& flag) { return cmd->count(flag) > 0; });
     if (!write_config->empty()) {
-      // Every option with its value (defaults too), so the file reproduces the run.
+      // Every option with its value (defaults too), so the file reproduces the run; but the
+      // preset's own values are left to the preset (written, they would count as given, and
+      // the preset would not set them when the file is read).
+      std::set<std::string> left_to_preset = {"write-config"};
+      for (const PresetSetting& s : PresetSettings(flags->preset)) {
+        const CLI::Option* opt = cmd->get_option(s.flag);
+        if (opt->count() == 0) left_to_preset.insert(opt->get_single_name());
+      }
       std::string text;
       std::istringstream lines(app->config_to_str(true, false));
       for (std::string line; std::getline(lines, line);) {
-        if (line.find("write-config=") == std::string::npos) text += line + "\n";
+        std::string key = line.substr(0, line.find('='));  // "register.polish-iterations=6"
+        if (const size_t dot = key.rfind('.'); dot != std::string::npos) key = key.substr(dot + 1);
+        if (!left_to_preset.count(key)) text += line + "\n";
       }
       WriteFileAtomic(*write_config, text);
       spdlog::info("options written to {}", *write_config);

@@ -10,12 +10,8 @@
 # two-rooms and apartment walks (900 frames, seed 0). The work dir keeps the simulations.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bin="$(pwd)/${1:-build}/apps/fine2coarse"
-work="${2:-$(mktemp -d)}"
-mkdir -p "$work"
-[ -x "$bin" ] || { echo "error: $bin not found: run bash scripts/build.sh first" >&2; exit 1; }
-cp "$bin" "$work/fine2coarse.bin" && bin="$work/fine2coarse.bin"  # a rebuild meanwhile cannot change it
-data="$(pwd)/../shared/data"
+# shellcheck source=bench/bench_env.sh
+source bench/bench_env.sh "$@"
 
 measure() {  # estimate ground_truth -> "ATE corr"
   "$bin" evaluate --json --estimate "$1" --ground-truth "$2" | /usr/bin/python3 -c '

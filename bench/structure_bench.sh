@@ -24,12 +24,8 @@ read -r -a refine_seeds <<< "${F2C_BENCH_REFINE_SEEDS:-0}"
 for r in "${refine_seeds[@]}"; do
   [[ "$r" =~ ^[0-9]+$ ]] || { echo "error: F2C_BENCH_REFINE_SEEDS: '$r' is not a seed (a non-negative integer)" >&2; exit 1; }
 done
-bin="$(pwd)/${1:-build}/apps/fine2coarse"
-work="${2:-$(mktemp -d)}"
-mkdir -p "$work"
-[ -x "$bin" ] || { echo "error: $bin not found: run bash scripts/build.sh first" >&2; exit 1; }
-cp "$bin" "$work/fine2coarse.bin" && bin="$work/fine2coarse.bin"  # a rebuild meanwhile cannot change it
-data="$(pwd)/../shared/data"
+# shellcheck source=bench/bench_env.sh
+source bench/bench_env.sh "$@"
 : > "$work/rows.tsv"
 
 variants=(

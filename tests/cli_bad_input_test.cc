@@ -1,4 +1,4 @@
-// The CLI on bad input (README, "Bad input: what you see"): exit codes 1 and 2, one-line
+// The CLI on bad input (docs/cli.md, "Bad input: what you see"): exit codes 1 and 2, one-line
 // messages naming the file or flag, and nothing written.
 
 #include <gtest/gtest.h>
@@ -105,8 +105,8 @@ TEST(Cli, BadRefinementOptionFailsBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(out));
   EXPECT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --windows time -o " + out.string()).output,
             "error: --windows: unknown value 'time' (frames, path)\n");
-  EXPECT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --plane-normals mean -o " + out.string()).output,
-            "error: --plane-normals: unknown value 'mean' (cell, proxy, snap)\n");
+  EXPECT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --thresholds time -o " + out.string()).output,
+            "error: --thresholds: unknown value 'time' (age, path)\n");
 }
 
 // A start trajectory that ends before the last frame is refused before any work, naming the
@@ -240,7 +240,7 @@ TEST(Cli, ADamagedCachedPairIsRecomputed) {
   EXPECT_EQ(ReadFileToString(out / "trajectory.txt"), before);
 }
 
-// The README's commands on damaged copies of real data (TUM fr1/desk, its 9 frames): each
+// The documented commands on damaged copies of real data (TUM fr1/desk, its 9 frames): each
 // damage gives the documented one-line error, exit 1, from every command that reads what was
 // damaged, and no output folder.
 TEST(Cli, DamagedCopiesOfRealDataGiveTheDocumentedErrors) {

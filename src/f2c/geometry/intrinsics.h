@@ -8,7 +8,7 @@
 //   y' = y (1 + k1 r^2 + k2 r^4 + k3 r^6) + p1 (r^2 + 2 y^2) + 2 p2 x y,   r^2 = x^2 + y^2,
 // i.e. at pixel (fx x' + cx, fy y' + cy). The image loaders (io/image.h) resample every
 // frame to the pinhole model, so every later stage sees a pinhole camera and uses fx, fy,
-// cx, cy alone (README.md, "Lens distortion": why the depth is resampled too).
+// cx, cy alone (docs/datasets.md, "Lens distortion": why the depth is resampled too).
 
 #include <Eigen/Core>
 #include <array>

@@ -79,7 +79,7 @@ namespace {
 // Both nearest train descriptors of each query descriptor (squared distances, best first).
 // |q - t|^2 = |q|^2 + |t|^2 - 2 q.t, the dot products a block of queries at a time from one
 // matrix product: Eigen's blocked, vectorised GEMM makes matching about twice as fast as
-// OpenCV's BFMatcher, which computes each distance on its own (BENCHMARKS.md). Ties keep the
+// OpenCV's BFMatcher, which computes each distance on its own. Ties keep the
 // lower train index, as BFMatcher does.
 struct TwoNearest {
   int index = -1;

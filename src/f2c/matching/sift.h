@@ -20,7 +20,7 @@ struct SiftOptions {
   double edge_threshold = 10.0;
   double sigma = 1.6;
   // Detect on the image shrunk by this factor (1 = full resolution) and scale keypoints back.
-  // Default 2: on fr1/xyz and redkitchen T0 kept its accuracy (BENCHMARKS.md) at ~3x the speed.
+  // Default 2: on fr1/xyz and redkitchen T0 kept its accuracy at ~3x the speed.
   // OpenCV's SIFT doubles its input for the first octave; shrinking by 2 skips exactly that
   // finest octave, about 4x less work, at the cost of the smallest-scale keypoints.
   int downscale = 2;

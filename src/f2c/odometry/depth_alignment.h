@@ -43,12 +43,12 @@ struct IcpOptions {
   // walks a flat-colour wall's noise gradients reach 1 grey level per pixel at 1% of its
   // pixels; mottled plaster exceeds 2 at a quarter of them. On since the loops' presolve
   // keeps the better of two starts (refine/sift_loops.h): before, the 5,000-frame walk lost
-  // with it (BENCHMARKS.md, "Twelfth stop" and "Thirteenth stop").
+  // with it.
   bool photometric = true;
   double min_gradient = 2.0;  // grey levels per pixel
-  // How far the motion prior's prediction is off per pair (metres; rotations at the mean
-  // depth): the scale of an ICP fallback's information (MeasuredInformation). Measured
-  // (BENCHMARKS.md, "Twenty-ninth stop"): 5 mm against 10 and 20 on the simulated walks.
+  // How far the motion prior's prediction is off per pair (metres; rotations at the mean depth):
+  // the scale of an ICP fallback's information (MeasuredInformation). Measured: 5 mm against 10 and
+  // 20 on the simulated walks.
   double prior_sigma = 0.005;
   // ...widened by this many prior_sigma for each pair in a row before it that left
   // directions to the motion prior (PriorAge): the prior came from them.

@@ -54,7 +54,7 @@ TEST(KeyframeOdometry, OnASimulated30HzWalkIsNoWorseThanHalfTheFramesAndBetterTh
 // depth sensor's noise, long along the ray and small across it, the relative motion of each
 // frame is more precise than the plain 3D fit's. Measured on nine 900-frame walks:
 // 0.0035-0.0065 m and 0.09-0.17 deg per frame against 0.0085-0.0131 m and 0.18-0.27 deg
-// (BENCHMARKS.md, "Fourteenth stop").
+//.
 TEST(KeyframeOdometry, TheRayAwareRefitMakesEachFramesMotionMorePrecise) {
   const auto dir = testing::FreshTempDir("keyframe_sim_ray");
   sim::SimulateOptions sim;

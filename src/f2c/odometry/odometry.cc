@@ -393,7 +393,7 @@ nlohmann::json ToJson(const PairAlignment& p) {
 namespace {
 
 // A whole number within int's range. nlohmann's get<int> turns 3.5 into 3 silently and 2e89
-// into undefined behaviour (a fuzz finding, BENCHMARKS.md).
+// into undefined behaviour (a fuzz finding).
 int WholeNumber(const nlohmann::json& j, const char* key) {
   const nlohmann::json& v = j.at(key);
   if (!v.is_number_integer()) throw std::invalid_argument(std::string(key) + " is not a whole number");

@@ -83,13 +83,12 @@ struct OdometryOptions {
   double ratio = 0.55;
   double relaxed_ratio = 0.8;
   int relax_below_matches = 50;
-  // RANSAC ends with 5 steps of the ray-aware refit (matching/ransac.h): a keypoint's depth
-  // is uncertain along its ray by centimetres at 2-3 m, its direction to a pixel, and the
-  // plain 3D fit lets the depth noise turn the pair. Measured (BENCHMARKS.md, "Fourteenth
-  // stop"): T0's ATE on fr1/xyz is worse with it (0.0236 -> 0.0288 m) but its motion per
-  // frame and per second better, and the refined trajectories gain: fr1/xyz, redkitchen
-  // with the structure (without it even), the simulated walks (the refinement keeps the
-  // relative poses, E_L, and removes the drift). The SIFT loops' RANSAC keeps the plain
+  // RANSAC ends with 5 steps of the ray-aware refit (matching/ransac.h): a keypoint's depth is
+  // uncertain along its ray by centimetres at 2-3 m, its direction to a pixel, and the plain 3D fit
+  // lets the depth noise turn the pair. Measured: T0's ATE on fr1/xyz is worse with it (0.0236 ->
+  // 0.0288 m) but its motion per frame and per second better, and the refined trajectories gain:
+  // fr1/xyz, redkitchen with the structure (without it even), the simulated walks (the refinement
+  // keeps the relative poses, E_L, and removes the drift). The SIFT loops' RANSAC keeps the plain
   // refit (measured: no gain there).
   RansacOptions ransac = RansacOptions::WithRayAwareRefit(5);
   // SIFT alignments with fewer RANSAC inliers fall back to ICP.

@@ -2,7 +2,7 @@
 // The BLAS behind Ceres' sparse Cholesky (CHOLMOD, and LAPACK's dpotrf) is OpenBLAS on
 // Debian (libblas.so.3 through the alternatives system). By default OpenBLAS starts a thread
 // per core and has it spin (sched_yield) between calls, while TBB and Ceres' own threads
-// already keep both cores busy. Measured (BENCHMARKS.md), refinement ms/frame with the
+// already keep both cores busy. Measured, refinement ms/frame with the
 // structure on this 2-core machine:
 //   two-rooms-0, another job running:   43-50 with OpenBLAS's threads, 17-19 with one;
 //   900-frame walks, machine idle:      within run-to-run noise of each other;
@@ -15,7 +15,7 @@
 // supernodal factorization for loops that clear or scatter a few thousand entries; on 2
 // cores, beside TBB's workers, every region wakes and then spins threads for a
 // memset's worth of work (perf: libgomp 6% of the refinement's samples, the kernel's futex
-// and scheduling as much again). Measured (BENCHMARKS.md, twenty-third stop), the solve with
+// and scheduling as much again). Measured, the solve with
 // those regions on one thread: 15-25% less time, the same poses to the bit.
 
 namespace f2c {

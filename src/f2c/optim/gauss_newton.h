@@ -1,26 +1,24 @@
 #pragma once
 // Gauss-Newton steps on residual blocks given as Ceres cost functions and losses, without a
-// ceres::Problem. Why: the refinement takes one Gauss-Newton step per iteration (paper §4.3,
-// the authors' code), and Ceres pays its per-solve set-up for each one: the program and its
-// Jacobian's block structure, J^T J's sparsity and its ordering, all rebuilt for a single
-// step. Here the normal equations J^T J d = -J^T r are assembled block by block, straight
-// into the compressed columns CHOLMOD factors, and solved by CHOLMOD's supernodal Cholesky.
-// Measured at 900 frames (31,000 residual blocks with the structural model), the refinement
-// takes about a fifth less time, with and without the structure (BENCHMARKS.md,
-// seventeenth stop); what remains is mostly CHOLMOD's factorization.
+// ceres::Problem. Why: the refinement takes one Gauss-Newton step per iteration (paper §4.3, the
+// authors' code), and Ceres pays its per-solve set-up for each one: the program and its Jacobian's
+// block structure, J^T J's sparsity and its ordering, all rebuilt for a single step. Here the
+// normal equations J^T J d = -J^T r are assembled block by block, straight into the compressed
+// columns CHOLMOD factors, and solved by CHOLMOD's supernodal Cholesky. Measured at 900 frames
+// (31,000 residual blocks with the structural model), the refinement takes about a fifth less time,
+// with and without the structure; what remains is mostly CHOLMOD's factorization.
 //
-// The step is the one Ceres' Levenberg-Marquardt takes from an infinite trust region:
-// parameter blocks on their manifolds (the Jacobian taken through each manifold's
-// PlusJacobian, the step applied by its Plus), residuals under a loss corrected as Ceres does
-// (Triggs et al.: the residual and Jacobian scaled by sqrt(rho'), with the curvature term
-// where rho'' > 0), and the step kept only if the cost falls by at least
-// `min_relative_decrease` of what the linear model predicts; otherwise it is retried with
-// Levenberg-Marquardt's damping (max_damped_steps), and where none passes the variables stay
-// as they were. The blocks are linearised in parallel into one buffer, each into its own slot,
-// and each variable's columns of J^T J and J^T r are summed in parallel (the columns are
-// disjoint), every entry over its blocks in their order, so the result does not depend on
-// the number of threads. The pattern and the symbolic analysis, which need no values, are
-// built beside the first linearisation (BENCHMARKS.md, twenty-second stop).
+// The step is the one Ceres' Levenberg-Marquardt takes from an infinite trust region: parameter
+// blocks on their manifolds (the Jacobian taken through each manifold's PlusJacobian, the step
+// applied by its Plus), residuals under a loss corrected as Ceres does (Triggs et al.: the residual
+// and Jacobian scaled by sqrt(rho'), with the curvature term where rho'' > 0), and the step kept
+// only if the cost falls by at least `min_relative_decrease` of what the linear model predicts;
+// otherwise it is retried with Levenberg-Marquardt's damping (max_damped_steps), and where none
+// passes the variables stay as they were. The blocks are linearised in parallel into one buffer,
+// each into its own slot, and each variable's columns of J^T J and J^T r are summed in parallel
+// (the columns are disjoint), every entry over its blocks in their order, so the result does not
+// depend on the number of threads. The pattern and the symbolic analysis, which need no values, are
+// built beside the first linearisation.
 
 #include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
@@ -45,23 +43,21 @@ struct GaussNewtonOptions {
   // A step is kept if (cost - new cost) / (the model's predicted decrease) exceeds this
   // (Ceres' default).
   double min_relative_decrease = 1e-3;
-  // A rejected step is retried this many times, damped as Levenberg-Marquardt damps it
-  // (H + lambda diag(H), lambda = initial_damping, then times damping_increase), before the
-  // variables are left where they were. Why: the undamped step can run far along a
-  // direction little holds (a gauge held only by a weak E_I; a plane that barely moves its
-  // residuals), where the linear model no longer holds and the cost rises; a damped step
-  // still makes progress in the directions that are well held. 0: no retry. Measured: no
-  // step of the refinement's walks or real sequences is rejected (BENCHMARKS.md,
-  // thirty-second stop), so they run as before; refine_test's exact room with w_I 1e-9 and
-  // frame 0 free, whose every step after the first was rejected, converges.
+  // A rejected step is retried this many times, damped as Levenberg-Marquardt damps it (H + lambda
+  // diag(H), lambda = initial_damping, then times damping_increase), before the variables are left
+  // where they were. Why: the undamped step can run far along a direction little holds (a gauge
+  // held only by a weak E_I; a plane that barely moves its residuals), where the linear model no
+  // longer holds and the cost rises; a damped step still makes progress in the directions that are
+  // well held. 0: no retry. Measured: no step of the refinement's walks or real sequences is
+  // rejected, so they run as before; refine_test's exact room with w_I 1e-9 and frame 0 free, whose
+  // every step after the first was rejected, converges.
   int max_damped_steps = 4;
   double initial_damping = 1e-3;
   double damping_increase = 10;
-  // CHOLMOD's fill-reducing ordering: AMD, or CHOLMOD's nested dissection (METIS) on the
-  // graph of the blocks, each block's columns kept together. Measured (BENCHMARKS.md,
-  // seventeenth stop), analysis and factorization together: the same at 900 frames, and
-  // nested dissection 2% ahead at 2,001 (less fill from the loops for a longer analysis);
-  // for the planes-only presolve, whose system is nearly block-diagonal, AMD.
+  // CHOLMOD's fill-reducing ordering: AMD, or CHOLMOD's nested dissection (METIS) on the graph of
+  // the blocks, each block's columns kept together. Measured, analysis and factorization together:
+  // the same at 900 frames, and nested dissection 2% ahead at 2,001 (less fill from the loops for a
+  // longer analysis); for the planes-only presolve, whose system is nearly block-diagonal, AMD.
   enum class Ordering { kAmd, kNestedDissection };
   Ordering ordering = Ordering::kNestedDissection;
 };

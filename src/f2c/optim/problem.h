@@ -1,19 +1,18 @@
 #pragma once
-// One refinement iteration's optimisation (paper §4.3):
-//   argmin_{T,P}  w_C E_C(T, C) + w_L E_L(T) + w_I E_I(T, P) + w_M E_M(T) + w_V E_V(T)
-//                 + w_P E_P(T, P) + w_H E_H(P) + w_G E_G(P)
-// over every camera pose but the first, which is held fixed (the gauge), and the plane
-// variables P of the structural model (optim/structure_costs.h), when there is one. Each term's weight
-// is a total shared among its residuals, as in the authors' code (DESIGN.md §2): a residual
-// of a term with N residuals and relative weights v_i gets w v_i / sum(v), so the balance of
-// the terms does not change with how many constraints an iteration finds. E_C residuals go
-// through a robust loss (metres). E_M (SIFT matches the refinement found, beyond the paper)
-// weighs each match w_M / n (n frames), not shared: a verified match counts the same however
-// many others there are; its Cauchy loss (match_loss_scale) tames the rare wrong one. E_V
-// (steady motion, beyond the paper) shares w_V among its triples of consecutive frames. Solved with Ceres: sparse normal Cholesky (SuiteSparse),
-// poses on EigenQuaternionManifold x R^3, plane normals on SphereManifold<3>. E_P shares w_P
-// among the children by their m_j, E_H w_H among the links, E_G w_G among the relations by
-// w_ab, and E_I w_I / n per pose and w_I / (number of planes) per plane.
+// One refinement iteration's optimisation (paper §4.3): argmin_{T,P}  w_C E_C(T, C) + w_L E_L(T) +
+// w_I E_I(T, P) + w_M E_M(T) + w_V E_V(T) + w_P E_P(T, P) + w_H E_H(P) + w_G E_G(P) over every
+// camera pose but the first, which is held fixed (the gauge), and the plane variables P of the
+// structural model (optim/structure_costs.h), when there is one. Each term's weight is a total
+// shared among its residuals, as in the authors' code (DESIGN.md §2): a residual of a term with N
+// residuals and relative weights v_i gets w v_i / sum(v), so the balance of the terms does not
+// change with how many constraints an iteration finds. E_C residuals go through a robust loss
+// (metres). E_M (SIFT matches the refinement found, beyond the paper) weighs each match w_M / n (n
+// frames), not shared: a verified match counts the same however many others there are; its Cauchy
+// loss (match_loss_scale) tames the rare wrong one. E_V (steady motion, beyond the paper) shares
+// w_V among its triples of consecutive frames. Solved with Ceres: sparse normal Cholesky
+// (SuiteSparse), poses on EigenQuaternionManifold x R^3, plane normals on SphereManifold<3>. E_P
+// shares w_P among the children by their m_j, E_H w_H among the links, E_G w_G among the relations
+// by w_ab, and E_I w_I / n per pose and w_I / (number of planes) per plane.
 
 #include <map>
 #include <nlohmann/json_fwd.hpp>
@@ -36,31 +35,30 @@ F2C_ENUM_NAMES(LinearSolver,
 
 struct SolverOptions {
   // Term totals. The authors' code: E_C 1500 -> 1000 over the iterations, E_L 1000, E_I 1.
-  // E_L's 100 is measured with E_L on short spans only (refine/local_alignment.h,
-  // BENCHMARKS.md): at 1000 the odometry's relative transforms hold the drift the
+  // E_L's 100 is measured with E_L on short spans only (refine/local_alignment.h):
+  // at 1000 the odometry's relative transforms hold the drift the
   // correspondences would remove; at 10 they no longer keep neighbouring frames together.
   double weight_correspondence = 1000;
   double weight_local = 100;
   double weight_inertia = 1;
   double weight_match = 100;
-  // E_V, steady motion (beyond the paper; optim/cost_functions.h): consecutive frames' changes
-  // of velocity, linear and angular (rotations at the lever arm), as much in total as E_L.
-  // Where nothing else sees a direction (a camera facing one plain wall cannot see its turn
-  // about the wall's normal) or one odometry pair is wrong and E_L repeats it, E_L alone
-  // keeps T0's jolt; the camera's motion is steadier than that. Measured (BENCHMARKS.md,
-  // "Tenth stop"): lower correspondence error and worst rotation drift on the simulated
-  // walks, lower ATE on fr1/xyz. 0: off (the paper).
+  // E_V, steady motion (beyond the paper; optim/cost_functions.h): consecutive frames' changes of
+  // velocity, linear and angular (rotations at the lever arm), as much in total as E_L. Where
+  // nothing else sees a direction (a camera facing one plain wall cannot see its turn about the
+  // wall's normal) or one odometry pair is wrong and E_L repeats it, E_L alone keeps T0's jolt; the
+  // camera's motion is steadier than that. Measured: lower correspondence error and worst rotation
+  // drift on the simulated walks, lower ATE on fr1/xyz. 0: off (the paper).
   double weight_velocity = 100;
   // The structural model's totals (E_P, E_H, E_G); the authors' code: E_S 1500 -> 1000 and
-  // E_H 1500 -> 1000 over the iterations. Measured choices in BENCHMARKS.md.
+  // E_H 1500 -> 1000 over the iterations. Measured on the real sequences and walks.
   double weight_proxy = 1000;
   double weight_coplanarity = 1000;
   // E_G is weak by default: measured, a strong E_G (1000) pulls surfaces that are only nearly
   // square or parallel (furniture, the trapezoid room) and bends the scan more than it
-  // straightens it (BENCHMARKS.md). At 10 it still cost TUM fr1/xyz (0.0111 against 0.0108 m
+  // straightens it. At 10 it still cost TUM fr1/xyz (0.0111 against 0.0108 m
   // without the structure) and bent a 2,001-frame walk's unrevisited stretch (0.020 m ATE
   // against 0.013); at 1 neither, while 7-Scenes redkitchen keeps part of its gain and the
-  // simulated walks do not move (BENCHMARKS.md, fifteenth stop).
+  // simulated walks do not move.
   double weight_relation = 1;
   // Cauchy scale of E_L's residuals (metres; rotations at the lever arm); 0: plain least
   // squares. An odometry pair can be wrong outright (ICP turning freely along a plain wall):
@@ -70,16 +68,15 @@ struct SolverOptions {
   // Cauchy scale of E_L's measured constraints only (RelativePoseConstraint::measured; metres;
   // 0: as local_loss_scale; the tighter of the two holds for them). Constraints through an ICP
   // pair that left directions to the motion prior keep local_loss_scale: nothing else holds
-  // those directions (BENCHMARKS.md, twentieth stop). The refinement sets it in its polish
+  // those directions. The refinement sets it in its polish
   // iterations (refine/refine.h).
   double measured_local_loss_scale = 0.0;
-  // ...and only where the constraint's weakest SIFT or tracked pair had fewer RANSAC inliers
-  // than this (0: every measured constraint). Pairs with few keypoints are the ones whose turn
-  // is poorly conditioned: on the simulated walks those under 50 inliers are 0.3-0.65 deg off
-  // RMS, those over 0.1-0.24 (BENCHMARKS.md, eighth stop). On the real sequences under 0.5% of
-  // the pairs have fewer; with every measured constraint through the loss, TUM fr1/xyz lost
-  // 0.0107 -> 0.0113 m and 7-Scenes redkitchen 0.0268 -> 0.0290 (BENCHMARKS.md, twenty-first
-  // stop): there the correspondences are noisier than the odometry.
+  // ...and only where the constraint's weakest SIFT or tracked pair had fewer RANSAC inliers than
+  // this (0: every measured constraint). Pairs with few keypoints are the ones whose turn is poorly
+  // conditioned: on the simulated walks those under 50 inliers are 0.3-0.65 deg off RMS, those over
+  // 0.1-0.24. On the real sequences under 0.5% of the pairs have fewer; with every measured
+  // constraint through the loss, TUM fr1/xyz lost 0.0107 -> 0.0113 m and 7-Scenes redkitchen 0.0268
+  // -> 0.0290: there the correspondences are noisier than the odometry.
   int measured_local_loss_max_inliers = 50;
   // Cauchy scale of E_V's residuals (metres; rotations at the lever arm); 0: least squares.
   double velocity_loss_scale = 0.0;
@@ -91,7 +88,7 @@ struct SolverOptions {
   // truth (on the simulated walks, single frames 0.2-0.3 deg off both neighbours whose
   // odometry was right to 0.02). Through the loss the measured jolt stands. Triples over a
   // pair left to the motion prior keep velocity_loss_scale: there E_V measures what nothing
-  // else does. Measured (BENCHMARKS.md, thirty-second stop): the nine walks' worst drift
+  // else does. Measured: the nine walks' worst drift
   // 0.491 / 0.503 / 0.500 -> 0.469 / 0.472 / 0.478 deg, the real sequences level.
   double measured_velocity_loss_scale = 0.02;
   double match_loss_scale = 0.05;  // metres
@@ -109,8 +106,8 @@ struct SolverOptions {
   RobustLoss loss = RobustLoss::kCauchy;
   double loss_scale = 0.02;  // metres
   // kOneStep: a single Gauss-Newton step per refinement iteration, as the authors take (the
-  // default: as accurate as solving to convergence here at a quarter of the time,
-  // BENCHMARKS.md); kConverge: up to max_iterations Ceres iterations.
+  // default: as accurate as solving to convergence here at a quarter of the time);
+  // kConverge: up to max_iterations Ceres iterations.
   int max_iterations = 50;
   SolveMode solve = SolveMode::kOneStep;
   // One-step mode with the structural model: the planes alone (poses held) are first solved
@@ -120,8 +117,8 @@ struct SolverOptions {
   // The linear solver. kDirect: one-step solves (and the plane presolve) assemble the normal
   // equations themselves and factor them by CHOLMOD (optim/gauss_newton.h): the same step as
   // Ceres' at an infinite trust region, without Ceres' per-solve set-up (measured: the
-  // refinement about a fifth faster at 900 frames, a quarter at 2,001 and 5,000,
-  // BENCHMARKS.md, seventeenth stop); converge mode, or normal equations that are not
+  // refinement about a fifth faster at 900 frames, a quarter at 2,001 and 5,000);
+  // converge mode, or normal equations that are not
   // positive definite, fall back to kSparse (as before this solver). kSparse: Ceres with sparse Cholesky
   // (SuiteSparse). kCgnr: Ceres with conjugate gradients on the normal equations and a
   // block-Jacobi preconditioner, whose memory grows with the constraints only (a Cholesky
@@ -136,7 +133,7 @@ struct SolverOptions {
   // one rigid transform that puts frame 0 back. Holding frame 0 lets every term that
   // pulls the scan as a whole (a loop, the straightening of E_G and E_H) turn it against
   // frame 0's own constraints: measured, frame 0 ended 1.3 degrees off its neighbours on a
-  // simulated walk (BENCHMARKS.md). Free needs w_I > 0 (else frame 0 is held).
+  // simulated walk. Free needs w_I > 0 (else frame 0 is held).
   bool fix_first_pose = false;
 
   template <class V>

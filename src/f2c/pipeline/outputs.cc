@@ -110,6 +110,7 @@ json RunJson(const RegisterResult& r, const RegisterOptions& options, const Outp
        {{"fx", k.fx}, {"fy", k.fy}, {"cx", k.cx}, {"cy", k.cy}, {"distortion", k.distortion},
         {"source", seq.intrinsics_source}}},
       {"versions", Versions()},
+      {"preset", NameOf(options.preset)},
       {"options", run_options},
       {"stages",
        {{"read", {{"wall_s", r.read_s}}},

@@ -24,6 +24,7 @@
 #include "f2c/fusion/fuse.h"
 #include "f2c/io/sequence.h"
 #include "f2c/odometry/odometry.h"
+#include "f2c/pipeline/preset.h"
 #include "f2c/refine/refine.h"
 #include "f2c/util/progress.h"
 
@@ -50,6 +51,7 @@ struct RegisterOptions {
   int threads = 0;               // worker threads (0: all cores); the result does not depend on it
   bool quiet = false;            // no progress bars nor per-stage log lines
   ProgressListener progress;     // told of each stage's progress (util/progress.h); may be empty
+  Preset preset = Preset::kDefault;  // the preset ApplyPreset (preset.h) set, for run.json
 
   bool refines() const { return extract_features && refine_poses; }
   // InputError naming the option for every stage that will run, before any work.

@@ -135,10 +135,9 @@ std::vector<FeatureCorrespondence> FindCorrespondences(const std::vector<FramePa
           corr.feature_type = static_cast<uint8_t>(type);
           corr.weight = static_cast<float>(w);
           corr.target_point = to.point(nearest[m]);
+          // The target's own normal (the paper). The symmetric point-to-plane normal, the mean
+          // of both features', was no better on the real sequences and walks.
           corr.target_direction = to.direction(nearest[m]);
-          if (family == 0 && options.pair_normal == PairNormal::kMean) {
-            corr.target_direction = (corr.target_direction + dir).normalized();  // c > 0: no cancellation
-          }
           corr.point = from.point(local);
           out.push_back(corr);
           ++got;

@@ -34,15 +34,6 @@ namespace f2c {
 enum class ThresholdSchedule { kAge, kPath };
 F2C_ENUM_NAMES(ThresholdSchedule, {{ThresholdSchedule::kAge, "age"}, {ThresholdSchedule::kPath, "path"}})
 
-// The normal of a plane correspondence's residual n . (p_b - p_a): the target feature's own
-// (the paper), or the mean of both features' normals, the source's moved into the target by
-// the current poses (normalize(n_a + R_ab n_b), then held fixed in frame a like the target's).
-// The mean is the normal of the symmetric point-to-plane objective (Rusinkiewicz, SIGGRAPH
-// 2019) at the linearisation point: each cell's normal carries its own view's depth noise,
-// and the mean carries half of each.
-enum class PairNormal { kTarget, kMean };
-F2C_ENUM_NAMES(PairNormal, {{PairNormal::kTarget, "target"}, {PairNormal::kMean, "mean"}})
-
 struct CorrespondenceOptions {
   double initial_max_distance = 0.5;  // metres
   double initial_max_angle_deg = 45;
@@ -53,12 +44,11 @@ struct CorrespondenceOptions {
   double polish_max_distance = 0.03;
   double polish_max_angle_deg = 10;
   ThresholdSchedule schedule = ThresholdSchedule::kAge;
-  PairNormal pair_normal = PairNormal::kTarget;
   int per_frame = 100;    // |C| = per_frame n per iteration
   // Beyond the paper: |C| of the polish iterations (0: per_frame). Each iteration draws its
   // own sample, so the poses carry that sample's noise: with 100 n, the polish iterations
   // move every pose by about 0.1 deg RMS from one to the next without converging
-  // (BENCHMARKS.md, "Thirty-first stop"); more correspondences there average it away.
+  //; more correspondences there average it away.
   int polish_per_frame = 600;
   int min_per_pair = 6;   // a pair's share is never below this (then |C| exceeds per_frame n)
   double attempts = 3.0;  // features tried per correspondence wanted
@@ -86,8 +76,6 @@ struct CorrespondenceOptions {
               "normal/direction angle in polish iterations (deg)");
     F2C_FIELD(v, schedule, "--thresholds", {},
               "age: by iterations together (the paper); path: per pair by camera path (the authors' code)");
-    F2C_FIELD(v, pair_normal, "--pair-normal", {},
-              "normal of a plane correspondence: target (the paper) or mean (of both features', symmetric)");
     F2C_FIELD(v, per_frame, "--correspondences-per-frame", AtLeast(1), "|C| = this times the frames, per iteration");
     F2C_FIELD(v, polish_per_frame, "--polish-correspondences-per-frame", AtLeast(0),
               "|C| of the polish iterations, times the frames (0: --correspondences-per-frame)");

@@ -124,45 +124,6 @@ TEST(FindCorrespondences, NothingBeyondTheDistanceOrAngle) {
   }
 }
 
-// Each frame's cells of the wall z = 2 (world) tilted 2 degrees its own way (as one view's
-// depth noise tilts them): the target's normal carries its own view's tilt, the mean
-// neither. Frame 1 is turned 10 degrees, so the source's normal must be moved by the poses.
-TEST(FindCorrespondences, MeanPairNormalAveragesBothViewsTilts) {
-  FeatureIndex index;
-  PoseVector poses(2);
-  poses[1].rotation = Eigen::AngleAxisd(10 * M_PI / 180, Eigen::Vector3d::UnitY());
-  const float tilt = 2 * static_cast<float>(M_PI) / 180;
-  for (int frame = 0; frame < 2; ++frame) {
-    const float sign = frame == 0 ? -1.0f : 1.0f;
-    const Eigen::Matrix3f camera_from_world = poses[frame].ToRigid().linear().transpose().cast<float>();
-    const Eigen::Vector3f normal = camera_from_world * Eigen::Vector3f(sign * std::sin(tilt), 0, -std::cos(tilt));
-    FrameFeatures f;
-    for (int i = 0; i < 10; ++i) {
-      for (int j = 0; j < 10; ++j) {
-        f.features.push_back(MakeFeature(
-            FeatureType::kPlane, camera_from_world * Eigen::Vector3f(-0.5f + 0.1f * i, -0.5f + 0.1f * j, 2), normal));
-      }
-    }
-    index.frames.push_back(BuildFrameIndex(f, FeatureIndexOptions{}));
-  }
-  const WindowSchedule schedule{NoPolish(), {0.0, 0.1}};
-  CorrespondenceOptions o;
-  o.per_frame = 20;
-  for (const PairNormal mode : {PairNormal::kTarget, PairNormal::kMean}) {
-    o.pair_normal = mode;
-    const std::vector<FeatureCorrespondence> c = FindCorrespondences({{0, 1, 1.0f}}, index, poses, schedule, 0, {0.0, 0.1}, o);
-    ASSERT_EQ(c.size(), 40u);
-    for (const FeatureCorrespondence& x : c) {
-      const float sign = x.target_frame == 0 ? -1.0f : 1.0f;
-      const Eigen::Vector3f expected = mode == PairNormal::kMean ? Eigen::Vector3f(0, 0, -1)
-                                                                 : Eigen::Vector3f(sign * std::sin(tilt), 0, -std::cos(tilt));
-      const Eigen::Vector3f world = poses[x.target_frame].ToRigid().linear().cast<float>() * x.target_direction;
-      EXPECT_LT((world - expected).norm(), 1e-5f) << NameOf(mode);
-      EXPECT_NEAR(x.target_direction.norm(), 1.0f, 1e-6f);
-    }
-  }
-}
-
 TEST(FindCorrespondences, BudgetIsSpreadOverPairsWithAFloor) {
   TwoFrames t = MakeTwoFrames(Eigen::Vector3f::Zero());
   CorrespondenceOptions o;

@@ -86,13 +86,10 @@ std::unique_ptr<FrameIndex> BuildFrameIndex(const FrameFeatures& features, const
     const int take = std::min(n, caps[f]);
     // An even subsample in extraction order (the extraction orders features spatially).
     for (int j = 0; j < take; ++j) {
-      Feature feature = features.features[members[f][static_cast<int64_t>(j) * n / take]];
-      if (feature.type == FeatureType::kPlane && options.plane_normals != PlaneNormals::kCell && feature.proxy >= 0 &&
-          feature.proxy < static_cast<int>(features.proxies.size())) {
-        const PlanarProxy& proxy = features.proxies[feature.proxy];
-        feature.direction = proxy.normal;
-        if (options.plane_normals == PlaneNormals::kSnap) feature.position -= proxy.Distance(feature.position) * proxy.normal;
-      }
+      // A plane feature keeps its own cell's normal (the paper). Its proxy's normal, or its
+      // point snapped onto the proxy's plane, halved the simulated walks' correspondence error
+      // but cost the real sequences, whose planes a Kinect bends by millimetres.
+      const Feature& feature = features.features[members[f][static_cast<int64_t>(j) * n / take]];
       frame->families[f].Add(feature);
       frame->box.extend(feature.position);
       frame->centroid += feature.position;

@@ -25,9 +25,6 @@ namespace f2c {
 enum class FeatureFamily { kPlane = 0, kEdge = 1 };
 constexpr int kFeatureFamilyCount = 2;
 
-enum class PlaneNormals { kCell, kProxy, kSnap };
-F2C_ENUM_NAMES(PlaneNormals, {{PlaneNormals::kCell, "cell"}, {PlaneNormals::kProxy, "proxy"}, {PlaneNormals::kSnap, "snap"}})
-
 struct FeatureIndexOptions {
   // Features kept per frame and family (an even subsample when a frame has more): bounds
   // memory and search cost; 100 n correspondences per iteration need far fewer.
@@ -37,19 +34,12 @@ struct FeatureIndexOptions {
   bool use_borders = false;
   // Points kept per frame to estimate how much two views overlap (refine/pairs).
   int coverage_samples = 24;
-  // Per-image proxies kept per frame for the structural model (the largest), and the fewest
-  // member cells one must have (the extraction's own minimum is 10, DESIGN.md §2). Measured
-  // (BENCHMARKS.md): 4 instead of 8 halves the solve (fewer small parents tying many frames
-  // together) and keeps most of the structure's gain.
+  // Per-image proxies kept per frame for the structural model (the largest), and the fewest member
+  // cells one must have (the extraction's own minimum is 10, DESIGN.md §2). Measured: 4 instead of
+  // 8 halves the solve (fewer small parents tying many frames together) and keeps most of the
+  // structure's gain.
   int max_proxies = 4;
   int min_proxy_inliers = 10;
-  // A plane feature's normal: "cell", its own grid cell's fit (the paper); "proxy", the
-  // normal of the per-image proxy it lies on, fit to all the proxy's cells, so E_C's planes
-  // tilt with the depth noise of one cell no more; "snap" also moves its point onto the
-  // proxy's plane. Measured (BENCHMARKS.md, eighth stop): snap lowers the correspondence
-  // error on simulated walks by up to half, but costs the real sequences, whose planes a
-  // Kinect bends by millimetres; so the cell's own fit stays the default.
-  PlaneNormals plane_normals = PlaneNormals::kCell;
 
   template <class V>
   void Fields(V& v) {
@@ -58,8 +48,6 @@ struct FeatureIndexOptions {
     F2C_FIELD(v, max_edges, "--max-edge-features", AtLeast(1), "edge features kept per frame");
     F2C_FIELD(v, use_shadows, "--use-shadows", {}, "also match shadow edges (view-dependent)");
     F2C_FIELD(v, use_borders, "--use-borders", {}, "also match image-border points (view-dependent)");
-    F2C_FIELD(v, plane_normals, "--plane-normals", {},
-              "plane features' normals: cell (their own fit), proxy (their proxy's), snap (proxy's, point on its plane)");
     F2C_FIELD(v, coverage_samples, "", AtLeast(1), "points per frame for the overlap of two views");
     v.Group("Refinement: planar structure (paper 4.2-4.3)");
     F2C_FIELD(v, max_proxies, "--max-proxies", AtLeast(0), "per-image proxies per frame taken as children (largest)");

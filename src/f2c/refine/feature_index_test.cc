@@ -35,30 +35,15 @@ FrameFeatures NoisyWall() {
 
 const FeatureCloud& Planes(const FrameIndex& frame) { return frame.family(FeatureFamily::kPlane); }
 
-TEST(FeatureIndex, PlaneNormalsFromTheCellTheProxyOrSnappedOntoIt) {
+// A plane feature keeps its own cell's fit, tilt and depth noise included, not its proxy's.
+TEST(FeatureIndex, PlaneFeaturesKeepTheirOwnCellsFit) {
   const FrameFeatures features = NoisyWall();
-  FeatureIndexOptions o;
-  // Extraction order is kept (an even subsample of all three is all three).
-  const auto cell = BuildFrameIndex(features, o);
-  ASSERT_EQ(Planes(*cell).size(), 3);
-  EXPECT_TRUE(Planes(*cell).direction(0).isApprox(features.features[0].direction));
-  EXPECT_TRUE(Planes(*cell).point(0).isApprox(features.features[0].position));
-
-  o.plane_normals = PlaneNormals::kProxy;
-  const auto proxy = BuildFrameIndex(features, o);
-  for (int i = 0; i < 2; ++i) {
-    EXPECT_TRUE(Planes(*proxy).direction(i).isApprox(Eigen::Vector3f(0, 0, -1))) << i;
-    EXPECT_TRUE(Planes(*proxy).point(i).isApprox(features.features[i].position)) << i;
+  const auto frame = BuildFrameIndex(features, FeatureIndexOptions());
+  ASSERT_EQ(Planes(*frame).size(), 3);  // extraction order kept
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_TRUE(Planes(*frame).direction(i).isApprox(features.features[i].direction)) << i;
+    EXPECT_TRUE(Planes(*frame).point(i).isApprox(features.features[i].position)) << i;
   }
-  // A feature on no proxy keeps its own normal.
-  EXPECT_TRUE(Planes(*proxy).direction(2).isApprox(Eigen::Vector3f(0, 1, 0)));
-
-  o.plane_normals = PlaneNormals::kSnap;
-  const auto snap = BuildFrameIndex(features, o);
-  EXPECT_TRUE(Planes(*snap).point(0).isApprox(Eigen::Vector3f(0.3f, 0.1f, 2.0f)));
-  EXPECT_TRUE(Planes(*snap).point(1).isApprox(Eigen::Vector3f(-0.4f, 0.2f, 2.0f)));
-  EXPECT_TRUE(Planes(*snap).direction(1).isApprox(Eigen::Vector3f(0, 0, -1)));
-  EXPECT_TRUE(Planes(*snap).point(2).isApprox(features.features[2].position));
 }
 
 // The bounded search returns the points within the bound, nearest first, and only those:

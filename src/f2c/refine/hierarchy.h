@@ -35,7 +35,7 @@ namespace f2c {
 
 struct HierarchyOptions {
   // The authors' code merges within 0.3 m and pi/8 (DESIGN.md §2). Measured here
-  // (BENCHMARKS.md, refine_test): that merges a wall with a cupboard front or a surface 20 deg
+  // (refine_test): that merges a wall with a cupboard front or a surface 20 deg
   // off it, or a desk with what stands on it, and E_H then bends the scan; the defaults are
   // 0.05 m and 5 deg.
   double max_distance = 0.05;                     // metres
@@ -50,7 +50,7 @@ struct HierarchyOptions {
   // s = max(agreement_floor, 1.4826 MAD) the children's robust spread about that plane and
   // k = agreement_scale (0: off, every link weighs its inliers). A proxy fitted across a wall
   // jog sits centimetres off a wall whose other views agree to millimetres, and under least
-  // squares its offset turns its frame (BENCHMARKS.md, eighteenth stop); where the parent's
+  // squares its offset turns its frame; where the parent's
   // children all spread, as under drift still to be removed, s grows with them and every
   // link keeps its pull.
   double agreement_scale = 0;

@@ -52,13 +52,13 @@ struct LocalAlignmentOptions {
   // k_max: frames j + 1, ..., j + 2^k_max. The paper spans up to 16 frames (k_max 4); here
   // consecutive frames only (0). A long span carries the drift of every pair it crosses as
   // if it were one measurement, and fights the correspondences that remove that drift;
-  // measured (BENCHMARKS.md, "E_L on short spans"), with spans up to 16 E_L had to weigh
+  // measured, with spans up to 16 E_L had to weigh
   // little, and the refined poses were no steadier from frame to frame than T0.
   int max_power = 0;
   double icp_weight = 0.3;
   // An ICP pair that left nothing to the prediction (a corner's three planes, or the
   // photometric step along what the depth left free, docs/odometry.md) is a measurement like
-  // a SIFT pair's. Measured (BENCHMARKS.md, "Twelfth stop"): 0.3 for these too left the runs
+  // a SIFT pair's. Measured: 0.3 for these too left the runs
   // of frames facing a mottled wall bent by up to 1 deg.
   double icp_measured_weight = 1.0;
   double prior_weight = 0.01;
@@ -71,15 +71,14 @@ struct LocalAlignmentOptions {
   bool information = true;    // whiten constraints whose pairs all carry their information
   double reference_sigma = 0;  // metres; 0: the median translation sigma of those constraints
   // What the fit's noise model leaves out (a real sensor's depth distortion, colour-depth
-  // misregistration, rolling shutter) does not shrink with more inliers: each pair's
-  // covariance gains these standard deviations in every direction. Measured (BENCHMARKS.md,
-  // "Twenty-eighth stop"): without them the real sequences lost (fr1/xyz 0.0108 -> 0.0129 m,
-  // redkitchen 0.0262 -> 0.0294 m: their fits claim 0.03-0.04 deg); with them they are level
-  // and the simulated walks keep most of the gain.
+  // misregistration, rolling shutter) does not shrink with more inliers: each pair's covariance
+  // gains these standard deviations in every direction. Measured: without them the real sequences
+  // lost (fr1/xyz 0.0108 -> 0.0129 m, redkitchen 0.0262 -> 0.0294 m: their fits claim 0.03-0.04
+  // deg); with them they are level and the simulated walks keep most of the gain.
   double floor_rotation_deg = 0.05;
   double floor_translation = 0.001;  // metres
   // ICP fallbacks whitened too, by the information their fusion of depth, image and motion
-  // prior had (PairAlignment::information). Measured (BENCHMARKS.md, "Twenty-ninth stop"):
+  // prior had (PairAlignment::information). Measured:
   // with one weight each, E_L held the roll and slide that a run of fallbacks facing a plain
   // wall had taken from the prior as firmly as what their depth measured.
   bool icp_information = true;

@@ -40,6 +40,9 @@
 
 namespace f2c {
 
+enum class WeightSchedule { kConstant, kAuthors };
+F2C_ENUM_NAMES(WeightSchedule, {{WeightSchedule::kConstant, "constant"}, {WeightSchedule::kAuthors, "authors"}})
+
 struct RefineOptions {
   WindowOptions windows;
   FeatureIndexOptions features;
@@ -51,7 +54,7 @@ struct RefineOptions {
   SolverOptions solver;
   SelfCheckOptions self_check;
   // The planar structural model (E_P, E_H, E_G), on by default as in the paper;
-  // register --no-structure is its ablation. Measured (BENCHMARKS.md): it lowers rotation
+  // register --no-structure is its ablation. Measured: it lowers rotation
   // drift and correspondence error on every simulated walk and on the 5,000-frame walk,
   // helps 7-Scenes redkitchen (0.0283 -> 0.0262 m ATE), is level on TUM fr1/xyz (0.0108 m)
   // and costs about 1.8x the refinement's time (still 5-9 ms per frame on 2 cores).
@@ -61,13 +64,10 @@ struct RefineOptions {
   // The structure from this iteration on; < 0: from the first iteration whose window holds
   // the whole scan (after the loops the growing windows find).
   int structure_first_iteration = 0;
-  // The authors' linear weight schedule: a term's weight is this in the first iteration and
-  // moves linearly to its solver weight in the last (they use 1500 -> 1000 for E_C, E_S and
-  // E_H); < 0: the solver weight throughout.
-  double weight_correspondence_initial = -1;
-  double weight_proxy_initial = -1;
-  double weight_coplanarity_initial = -1;
-  double weight_relation_initial = -1;
+  // kAuthors: the authors' linear weight schedule, each of E_C, E_P, E_H and E_G at 1.5 times
+  // its solver weight in the first iteration, moving linearly to it in the last (their 1500
+  // -> 1000); kConstant: the solver weights throughout.
+  WeightSchedule weight_schedule = WeightSchedule::kConstant;
   // E_H's noise, measured: before the first iteration, in windows of l_0 frames under the
   // initial poses, the RMS angle between the children's normals and their parents'
   // (ChildNormalSpreadDeg) says how well this sensor's views of one surface agree on its
@@ -83,31 +83,29 @@ struct RefineOptions {
   // relation still degrees off is more likely the room's own angle than drift: with the loss
   // it pulls where nearly met and fades where not (a room 6 deg off square stays so). In the
   // schedule's iterations relations keep the paper's full pull, which straightens the
-  // drift. Measured (BENCHMARKS.md, ninth stop): the off-square rooms' wall angles come
+  // drift. Measured: the off-square rooms' wall angles come
   // closer to the truth than without the structure, redkitchen keeps part of E_G's gain
   // (0.0003 of 0.0007 m over three seeds; 1 deg gives up all of it), the simulated walks do
   // not move beyond the seed's spread.
   double polish_relation_loss_scale_deg = 3;
-  // E_H in the polish iterations, beyond the paper: through a Cauchy loss of this scale
-  // (metres; 0: as in the schedule's iterations, --coplanarity-loss-scale; the tighter of the
-  // two holds). An image can fit one proxy across two parallel surfaces a few centimetres
-  // apart (a wall and the next one behind it); under least squares such a child turns its
-  // frame through its tilt (1.4-1.7 deg on the simulator) and, more, its centimetres of
-  // offset from its parent (BENCHMARKS.md, eighteenth stop). Through the loss it lets go,
-  // while children that agree with their parent pull as before. Measured (BENCHMARKS.md,
-  // eighteenth stop), 5 mm lowered the apartment walks' worst drift (0.87 -> 0.66 deg) and
-  // redkitchen's ATE, but raised a 5,000-frame walk's correspondence error (0.0074 -> 0.0085
-  // m), so it stayed off. With E_L's weakly tracked links through their own loss
-  // (polish_local_loss_scale) that cost is gone (0.0071 -> 0.0072 m), and it is on by default
-  // (BENCHMARKS.md, twenty-first stop): the nine walks' worst drift 0.77 -> 0.67 deg (the
-  // scene means' mean), their correspondence RMSE 0.0064 -> 0.0060 m, fr1/xyz 0.0107 ->
-  // 0.0108 m (level with --no-structure), redkitchen 0.0265 -> 0.0262.
+  // E_H in the polish iterations, beyond the paper: through a Cauchy loss of this scale (metres; 0:
+  // as in the schedule's iterations, --coplanarity-loss-scale; the tighter of the two holds). An
+  // image can fit one proxy across two parallel surfaces a few centimetres apart (a wall and the
+  // next one behind it); under least squares such a child turns its frame through its tilt (1.4-1.7
+  // deg on the simulator) and, more, its centimetres of offset from its parent. Through the loss it
+  // lets go, while children that agree with their parent pull as before. Measured, 5 mm lowered the
+  // apartment walks' worst drift (0.87 -> 0.66 deg) and redkitchen's ATE, but raised a 5,000-frame
+  // walk's correspondence error (0.0074 -> 0.0085 m), so it stayed off. With E_L's weakly tracked
+  // links through their own loss (polish_local_loss_scale) that cost is gone (0.0071 -> 0.0072 m),
+  // and it is on by default: the nine walks' worst drift 0.77 -> 0.67 deg (the scene means' mean),
+  // their correspondence RMSE 0.0064 -> 0.0060 m, fr1/xyz 0.0107 -> 0.0108 m (level with
+  // --no-structure), redkitchen 0.0265 -> 0.0262.
   double polish_coplanarity_loss_scale = 0.005;
   // E_H's agreement with the siblings (HierarchyOptions::agreement_scale, k) in the polish
   // iterations, beyond the paper (0: as in the others, --coplanar-agreement-scale). A child
   // centimetres off a parent whose other children agree to millimetres (a proxy fitted across
   // a wall jog) lets go, while a parent whose children all spread keeps every link's pull.
-  // Measured (BENCHMARKS.md, nineteenth stop), k = 3: the apartment walks' worst drift 0.87 ->
+  // Measured, k = 3: the apartment walks' worst drift 0.87 ->
   // 0.77 deg and correspondence RMSE 0.0072 -> 0.0064 m, the real sequences, the walks that
   // chose nothing and a 5,000-frame walk's correspondence RMSE level. A tighter k gains more
   // on the walks with a wall jog but costs the 5,000-frame walk (k = 2: 0.0074 -> 0.0078 m,
@@ -115,18 +113,17 @@ struct RefineOptions {
   // schedule's iterations weakly tracked frames are still misplaced, and their children
   // look like the jog's.
   double polish_coplanar_agreement_scale = 3;
-  // E_L in the polish iterations, beyond the paper: its constraints measured in every
-  // direction through a weakly tracked pair (SolverOptions::measured_local_loss_scale and
-  // measured_local_loss_max_inliers, fewer than 50 RANSAC inliers) go through a Cauchy loss of
-  // this scale (metres, rotations at the lever arm; 0: as in the others). By then the poses
-  // are placed, and a pair whose few keypoints sat on one object can be a degree off while the
-  // correspondences of every frame around it agree; E_L repeats it in each link through it,
-  // so under least squares nothing outvotes it (BENCHMARKS.md, eighth stop). In the
-  // schedule's iterations the same loss would drop links that must still pull (BENCHMARKS.md,
-  // seventh stop). Measured (BENCHMARKS.md, twenty-first stop): the nine walks' worst drift
-  // 0.87 -> 0.77 deg (scene means' mean), their correspondence RMSE, the walks that chose
-  // nothing and the real sequences level or better, a 5,000-frame walk's correspondence RMSE
-  // 0.0074 -> 0.0071 m but its worst drift 1.81 -> 2.27 deg (one weakly textured stretch).
+  // E_L in the polish iterations, beyond the paper: its constraints measured in every direction
+  // through a weakly tracked pair (SolverOptions::measured_local_loss_scale and
+  // measured_local_loss_max_inliers, fewer than 50 RANSAC inliers) go through a Cauchy loss of this
+  // scale (metres, rotations at the lever arm; 0: as in the others). By then the poses are placed,
+  // and a pair whose few keypoints sat on one object can be a degree off while the correspondences
+  // of every frame around it agree; E_L repeats it in each link through it, so under least squares
+  // nothing outvotes it. In the schedule's iterations the same loss would drop links that must
+  // still pull. Measured: the nine walks' worst drift 0.87 -> 0.77 deg (scene means' mean), their
+  // correspondence RMSE, the walks that chose nothing and the real sequences level or better, a
+  // 5,000-frame walk's correspondence RMSE 0.0074 -> 0.0071 m but its worst drift 1.81 -> 2.27 deg
+  // (one weakly textured stretch).
   double polish_local_loss_scale = 0.01;
 
   template <class V>
@@ -136,8 +133,9 @@ struct RefineOptions {
     F2C_NESTED(v, pairs);
     F2C_NESTED(v, correspondences);
     v.Group("Refinement: energy and solver (paper 4.3)");
-    F2C_FIELD(v, weight_correspondence_initial, "--weight-correspondence-initial", AnyFinite(),
-              "w_C in the first iteration, linear to --weight-correspondence in the last (the authors: 1500); < 0: constant");
+    F2C_FIELD(v, weight_schedule, "--weight-schedule", {},
+              "constant: the solver weights throughout; authors: E_C's, E_P's, E_H's and E_G's first weight 1.5 times "
+              "their last, as the authors' 1500 -> 1000");
     F2C_NESTED(v, local);
     F2C_NESTED(v, steady_motion);
     F2C_NESTED(v, solver);
@@ -146,12 +144,6 @@ struct RefineOptions {
               "the planar structural model E_P, E_H, E_G (--no-structure: the paper's ablation)");
     F2C_FIELD(v, structure_first_iteration, "--structure-from", AnyFinite(),
               "the structure from this iteration on (< 0: from the first whose window holds the whole scan)");
-    F2C_FIELD(v, weight_proxy_initial, "--weight-proxy-initial", AnyFinite(),
-              "w_P in the first iteration, linear to --weight-proxy; < 0: constant");
-    F2C_FIELD(v, weight_coplanarity_initial, "--weight-coplanarity-initial", AnyFinite(),
-              "w_H in the first iteration; < 0: constant");
-    F2C_FIELD(v, weight_relation_initial, "--weight-relation-initial", AnyFinite(),
-              "w_G in the first iteration; < 0: constant");
     F2C_FIELD(v, coplanarity_noise_reference_deg, "--coplanarity-noise-reference", AtLeast(0),
               "w_H times min(1, (this / the children's normal spread in windows of l_0 frames at the start)^2) (deg; 0: "
               "off)");

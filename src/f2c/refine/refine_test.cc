@@ -337,9 +337,10 @@ class RefineOnAWalk : public ::testing::Test {
 SimScan* RefineOnAWalk::scan_ = nullptr;
 std::vector<Correspondence>* RefineOnAWalk::truth_pairs_ = nullptr;
 
-// The walk revisits the first room. T0 drifts smoothly (0.05 deg and 2 mm per pair, 15 deg
-// over the walk), so the revisit is misplaced by about 0.4 m; windows that grow find the loop, and the ground-truth
-// correspondences' RMSE falls at least 5x. Fails if windows, pairs or correspondences break.
+// The walk revisits the first room. T0 drifts smoothly (0.05 deg and 2 mm per pair, 15 deg over the
+// walk), so the revisit is misplaced by about 0.4 m; windows that grow find the loop, and the
+// ground-truth correspondences' RMSE falls at least 5x. Fails if windows, pairs or correspondences
+// break.
 TEST_F(RefineOnAWalk, FindsTheLoop) {
   const std::vector<PairAlignment> pairs = DriftingPairs(scan_->truth, SmallMotion(0.002, 0.05));
   const Trajectory t0 = Chain(scan_->truth, pairs);
@@ -386,7 +387,7 @@ TEST_F(RefineOnAWalk, StructureStraightensRotationDrift) {
   const RotationDrift off = ComputeRotationDrift(ToTrajectory(t0, without.poses), scan_->truth);
   EXPECT_GT(before.rotation.max, 10.0);
   // Measured: structure 0.168 / 0.053 deg, without 0.242 / 0.088 deg. (With E_L on spans
-  // up to 16 frames at w_L 10 they were 1.61 / 0.166 and 2.66 / 0.287: BENCHMARKS.md.)
+  // up to 16 frames at w_L 10 they were 1.61 / 0.166 and 2.66 / 0.287.)
   EXPECT_LT(on.rotation.max, 0.5) << "the issue's worst rotation drift";
   EXPECT_LT(on.rotation.max, off.rotation.max) << "on " << on.rotation.max << ", off " << off.rotation.max;
   EXPECT_LT(on.rotation.rmse, 0.85 * off.rotation.rmse) << "on " << on.rotation.rmse << ", off " << off.rotation.rmse;

@@ -68,11 +68,9 @@ struct SiftLoopOptions {
   // link by a loop's single RANSAC estimate; where the odometry has few weak links (the
   // photometric step measured a plain wall's slides), one imprecise loop then places a long
   // stretch, and E_M's Cauchy loss no longer sees the loops that would bring it back:
-  // measured (BENCHMARKS.md, "Thirteenth stop"), 5,000 frames with the photometric
+  // measured, 5,000 frames with the photometric
   // options 0.035 -> 0.0077 m ATE.
   bool better_start = true;
-  // Whether E_M stays in the polish iterations (refine/windows.h).
-  bool in_polish = false;
   double loop_confidence = 0.95;
   uint64_t seed = 0;
 
@@ -103,7 +101,6 @@ struct SiftLoopOptions {
               "re-place poses along the most trusted links when loops arrive");
     F2C_FIELD(v, better_start, "--loop-better-start,!--no-loop-better-start", {},
               "...and from the current poses, keeping the start that ends at the lower E_L + E_M + E_V");
-    F2C_FIELD(v, in_polish, "--loop-in-polish", {}, "keep E_M in the polish iterations");
     F2C_FIELD(v, loop_confidence, "", Between(0, 1), "spanning tree: trust of a loop");
     F2C_FIELD(v, seed, "", {}, "seed of the loops' RANSAC");
   }

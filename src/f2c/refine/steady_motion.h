@@ -26,9 +26,9 @@ struct SteadyMotionOptions {
   // Where an odometry pair left directions to the motion prior (an ICP fallback facing a plain
   // wall, or the prior itself), the prior was the odometry's only measurement of them, and
   // E_L holds them no better than that (refine/local_alignment.h); a triple that contains such
-  // a pair weighs this many times a plain one. Measured (BENCHMARKS.md): 3 against 1 with E_L
-  // whitened through the fallbacks ("Twenty-ninth stop"); 10 once the polish iterations
-  // sample 600 n correspondences (refine/correspondences.h, "Thirty-first stop").
+  // a pair weighs this many times a plain one. Measured: 3 against 1 with E_L
+  // whitened through the fallbacks; 10 once the polish iterations
+  // sample 600 n correspondences (refine/correspondences.h).
   double unmeasured_weight = 10;
 
   template <class V>
