@@ -55,8 +55,8 @@ std::string Command(const CLI::App& cmd) {
     for (const CLI::Option* opt : groups[group]) {
       std::string value = opt->get_type_name();
       if (!opt->get_default_str().empty()) value += (value.empty() ? "" : " ") + ("(" + opt->get_default_str() + ")");
-      out += "| " + (opt->get_positional() ? "`" + opt->get_name() + "`" : Names(*opt)) + " | " + Cell(value) +
-             " | " + Cell(opt->get_description()) + " |\n";
+      out += "| " + (opt->get_positional() ? "`" + opt->get_name() + "`" : Names(*opt)) + " | " + Cell(value) + " | " +
+             Cell(opt->get_description()) + " |\n";
     }
     out += "\n";
   }

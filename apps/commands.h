@@ -65,19 +65,19 @@ struct EvaluateArgs {
   // Ground-truth correspondences (the authors' format); empty: the dataset folder's
   // correspondences.txt when there is one.
   std::string correspondences;
-  std::string mesh;           // a mesh fused with the estimate's poses, to measure
-  std::string true_surfaces;  // PLY of the true surfaces; default: the folder's scene.ply
-  std::string report;         // an HTML page with the plots, when set
-  std::string name = "estimate";       // the estimate's name in the report
-  std::vector<std::string> also;       // NAME=FILE: further trajectories drawn in the report
-  IoOptions io;                        // frame selection (frame ids of .log/.conf estimates) and intrinsics
+  std::string mesh;               // a mesh fused with the estimate's poses, to measure
+  std::string true_surfaces;      // PLY of the true surfaces; default: the folder's scene.ply
+  std::string report;             // an HTML page with the plots, when set
+  std::string name = "estimate";  // the estimate's name in the report
+  std::vector<std::string> also;  // NAME=FILE: further trajectories drawn in the report
+  IoOptions io;                   // frame selection (frame ids of .log/.conf estimates) and intrinsics
 };
 int RunEvaluate(const EvaluateArgs& args);
 
 struct SimulateArgs {
   std::string output;
   sim::SimulateOptions options;  // --scene, --frames, --seed, --correspondences, --depth-distortion
-  bool exact = false;             // no sensor noise
+  bool exact = false;            // no sensor noise
   bool quiet = false;
 };
 int RunSimulate(const SimulateArgs& args);

@@ -30,8 +30,9 @@ Trajectory LoadEstimate(const fs::path& path, const Trajectory& gt, const std::v
   Trajectory est = ReadTrajectoryFile(path);
   if (est.has_timestamps || !gt.has_timestamps) return est;
   if (frame_timestamps.empty()) {
-    ThrowInputError(path, "has no time stamps (.log/.conf); give --ground-truth as the "
-                          "dataset folder so frame ids can be placed in time");
+    ThrowInputError(path,
+                    "has no time stamps (.log/.conf); give --ground-truth as the "
+                    "dataset folder so frame ids can be placed in time");
   }
   for (double& id : est.timestamps) {
     const auto i = static_cast<long>(id);
@@ -45,8 +46,8 @@ Trajectory LoadEstimate(const fs::path& path, const Trajectory& gt, const std::v
 }
 
 void PrintStatsRow(const char* name, const char* unit, const ErrorStatistics& s) {
-  std::printf("%-24s %-4s %9.4f %9.4f %9.4f %9.4f %9.4f %9.4f %6d\n", name, unit, s.rmse, s.mean,
-              s.median, s.std, s.min, s.max, s.count);
+  std::printf("%-24s %-4s %9.4f %9.4f %9.4f %9.4f %9.4f %9.4f %6d\n", name, unit, s.rmse, s.mean, s.median, s.std,
+              s.min, s.max, s.count);
 }
 
 json StatsJson(const ErrorStatistics& s) {
@@ -90,7 +91,8 @@ int RunEvaluate(const EvaluateArgs& args) {
       ThrowInputError(correspondence_file, "correspondences name frames: give --ground-truth as the dataset folder");
     }
     // Those between the frames --first/--last/--every keep, numbered as the selection is.
-    correspondences = SelectFrames(ReadCorrespondences(correspondence_file), args.io.first, args.io.last, args.io.every);
+    correspondences =
+        SelectFrames(ReadCorrespondences(correspondence_file), args.io.first, args.io.last, args.io.every);
     corr = CorrespondenceError(PosesAtFrames(est, frame_timestamps, args.evaluation.max_time_difference),
                                correspondences, correspondence_file.string());
   }
@@ -100,8 +102,9 @@ int RunEvaluate(const EvaluateArgs& args) {
   if (!args.mesh.empty()) {
     if (surfaces.empty()) {
       if (!fs::is_directory(args.ground_truth) || !fs::exists(fs::path(args.ground_truth) / "scene.ply")) {
-        ThrowInputError(args.mesh, "--mesh needs the true surfaces: --true-surfaces FILE, or --ground-truth as a "
-                                   "simulated folder (with scene.ply)");
+        ThrowInputError(args.mesh,
+                        "--mesh needs the true surfaces: --true-surfaces FILE, or --ground-truth as a "
+                        "simulated folder (with scene.ply)");
       }
       surfaces = fs::path(args.ground_truth) / "scene.ply";
     }
@@ -120,12 +123,13 @@ int RunEvaluate(const EvaluateArgs& args) {
                 {"ground truth", args.ground_truth},
                 {"poses associated", fmt::format("{} of {}", r.ate.translation.count, r.ate.estimated_poses)},
                 {"ATE RMSE", fmt::format("{:.4f} m", r.ate.translation.rmse)},
-                {"RPE per frame", fmt::format("{:.4f} m, {:.3f} deg", r.rpe_per_frame.translation.rmse,
-                                              r.rpe_per_frame.rotation.rmse)},
-                {"rotation drift", fmt::format("{:.3f} deg RMS over pairs >= {:g} s apart", r.drift.rotation.rmse,
-                                               r.drift.min_seconds)}};
-    if (corr) in.facts.emplace_back("correspondences", fmt::format("RMSE {:.4f} m over {}", corr->distance.rmse,
-                                                                    corr->distance.count));
+                {"RPE per frame",
+                 fmt::format("{:.4f} m, {:.3f} deg", r.rpe_per_frame.translation.rmse, r.rpe_per_frame.rotation.rmse)},
+                {"rotation drift",
+                 fmt::format("{:.3f} deg RMS over pairs >= {:g} s apart", r.drift.rotation.rmse, r.drift.min_seconds)}};
+    if (corr)
+      in.facts.emplace_back("correspondences",
+                            fmt::format("RMSE {:.4f} m over {}", corr->distance.rmse, corr->distance.count));
     in.ground_truth = gt;
     // The estimate in the palette's first colour, the others in the rest; the estimate last:
     // the page is about it.
@@ -152,10 +156,12 @@ int RunEvaluate(const EvaluateArgs& args) {
               {"ground_truth", args.ground_truth},
               {"ate_m", StatsJson(r.ate.translation)},
               {"estimated_poses", r.ate.estimated_poses},
-              {"rpe_per_frame", {{"translation_m", StatsJson(r.rpe_per_frame.translation)},
-                                 {"rotation_deg", StatsJson(r.rpe_per_frame.rotation)}}},
-              {"rpe_per_second", {{"translation_m", StatsJson(r.rpe_per_second.translation)},
-                                  {"rotation_deg", StatsJson(r.rpe_per_second.rotation)}}},
+              {"rpe_per_frame",
+               {{"translation_m", StatsJson(r.rpe_per_frame.translation)},
+                {"rotation_deg", StatsJson(r.rpe_per_frame.rotation)}}},
+              {"rpe_per_second",
+               {{"translation_m", StatsJson(r.rpe_per_second.translation)},
+                {"rotation_deg", StatsJson(r.rpe_per_second.rotation)}}},
               {"rotation_drift_deg", StatsJson(r.drift.rotation)},
               {"rotation_drift_min_seconds", r.drift.min_seconds},
               {"rotation_drift_p99_deg", r.drift.p99},
@@ -169,7 +175,10 @@ int RunEvaluate(const EvaluateArgs& args) {
     if (corr) {
       json by_gap = json::array();
       for (const GapBin& b : corr->by_gap) {
-        by_gap.push_back({{"gap_from", b.gap_lo}, {"gap_to", b.gap_hi}, {"count", b.count}, {"mean_m", b.mean},
+        by_gap.push_back({{"gap_from", b.gap_lo},
+                          {"gap_to", b.gap_hi},
+                          {"count", b.count},
+                          {"mean_m", b.mean},
                           {"median_m", b.median}});
       }
       j["correspondences"] = {{"file", correspondence_file.string()},
@@ -191,8 +200,8 @@ int RunEvaluate(const EvaluateArgs& args) {
   }
   std::printf("%s vs %s: %d of %d poses associated\n", args.estimate.c_str(), args.ground_truth.c_str(),
               r.ate.translation.count, r.ate.estimated_poses);
-  std::printf("%-24s %-4s %9s %9s %9s %9s %9s %9s %6s\n", "metric", "unit", "rmse", "mean", "median",
-              "std", "min", "max", "n");
+  std::printf("%-24s %-4s %9s %9s %9s %9s %9s %9s %6s\n", "metric", "unit", "rmse", "mean", "median", "std", "min",
+              "max", "n");
   PrintStatsRow("ATE", "m", r.ate.translation);
   PrintStatsRow("RPE/frame translation", "m", r.rpe_per_frame.translation);
   PrintStatsRow("RPE/frame rotation", "deg", r.rpe_per_frame.rotation);
@@ -209,31 +218,33 @@ int RunEvaluate(const EvaluateArgs& args) {
   }
   if (corr) {
     PrintStatsRow("correspondences", "m", corr->distance);
-    if (corr->skipped > 0) std::printf("(%d correspondences skipped: a frame without an estimated pose)\n", corr->skipped);
+    if (corr->skipped > 0)
+      std::printf("(%d correspondences skipped: a frame without an estimated pose)\n", corr->skipped);
   }
   if (mesh_error) {
     PrintStatsRow("mesh to true surface", "m", mesh_error->accuracy);
-    std::printf("mesh: 90%% of vertices within %.4f m of the true surfaces (%.1f%% beyond %.2f m); completeness "
-                "%.1f%% (true surface within %.2f m of a vertex)\n",
-                mesh_error->p90, 100 * mesh_error->far_fraction, MeshErrorOptions().max_distance,
-                100 * mesh_error->completeness, MeshErrorOptions().completeness_distance);
+    std::printf(
+        "mesh: 90%% of vertices within %.4f m of the true surfaces (%.1f%% beyond %.2f m); completeness "
+        "%.1f%% (true surface within %.2f m of a vertex)\n",
+        mesh_error->p90, 100 * mesh_error->far_fraction, MeshErrorOptions().max_distance,
+        100 * mesh_error->completeness, MeshErrorOptions().completeness_distance);
   }
   return 0;
 }
 
 Subcommand AddEvaluateCommand(CLI::App* app) {
   auto args = std::make_shared<EvaluateArgs>();
-  CLI::App* cmd = app->add_subcommand(
-      "evaluate", "ATE (after rigid alignment) and RPE (per frame, per second) of a trajectory, "
-                  "as the TUM benchmark tools compute them");
+  CLI::App* cmd = app->add_subcommand("evaluate",
+                                      "ATE (after rigid alignment) and RPE (per frame, per second) of a trajectory, "
+                                      "as the TUM benchmark tools compute them");
   cmd->add_option("--estimate", args->estimate, "trajectory: TUM text, .log or .conf")->required();
   cmd->add_option("--ground-truth", args->ground_truth,
-                       "ground truth: a trajectory file, or a dataset folder that has one")
+                  "ground truth: a trajectory file, or a dataset folder that has one")
       ->required();
   cmd->add_flag("--json", args->json, "print JSON instead of a table");
   cmd->add_option("--correspondences", args->correspondences,
-                       "ground-truth correspondences (authors' format) to measure |T_a p_a - T_b p_b| on; "
-                       "default: the dataset folder's correspondences.txt, if any");
+                  "ground-truth correspondences (authors' format) to measure |T_a p_a - T_b p_b| on; "
+                  "default: the dataset folder's correspondences.txt, if any");
   cmd->add_option("--mesh", args->mesh,
                   "also measure this mesh (made with the estimate's poses) against the true surfaces: accuracy "
                   "(vertex to surface) and completeness");

@@ -6,12 +6,18 @@ namespace f2c::app {
 
 cv::Vec3b FeatureColor(FeatureType type) {
   switch (type) {
-    case FeatureType::kPlane: return {200, 200, 200};
-    case FeatureType::kSilhouette: return {40, 40, 235};
-    case FeatureType::kShadow: return {235, 120, 30};
-    case FeatureType::kBorder: return {30, 220, 240};
-    case FeatureType::kRidge: return {40, 200, 40};
-    case FeatureType::kValley: return {220, 40, 220};
+    case FeatureType::kPlane:
+      return {200, 200, 200};
+    case FeatureType::kSilhouette:
+      return {40, 40, 235};
+    case FeatureType::kShadow:
+      return {235, 120, 30};
+    case FeatureType::kBorder:
+      return {30, 220, 240};
+    case FeatureType::kRidge:
+      return {40, 200, 40};
+    case FeatureType::kValley:
+      return {220, 40, 220};
   }
   return {255, 255, 255};
 }

@@ -27,7 +27,7 @@ int RunFeatures(const FeaturesArgs& args) {
   args.features.Check();  // before any file is read
   const fs::path out = args.output;
   const RgbdSequence seq = ReadSequence(args.input, args.io);  // a bad input leaves no output folder
-  const OutputFolder output_folder(out);  // a run stopped by an error leaves no empty folders
+  const OutputFolder output_folder(out);                       // a run stopped by an error leaves no empty folders
   spdlog::info("{}: {} layout, {} frames", args.input, LayoutName(seq.layout), seq.frames.size());
   FeatureRun run;
   run.quiet = args.quiet;
@@ -65,17 +65,19 @@ int RunFeatures(const FeaturesArgs& args) {
   std::printf("wrote %s (%d frames)%s%s, features.json\n", run.cache_file.string().c_str(), n,
               args.images ? ", images/" : "", args.ply ? ", ply/" : "");
   std::printf("per frame:");
-  for (const auto& [type, count] : stats["per_frame"].items()) std::printf(" %s %.1f", type.c_str(), count.get<double>());
+  for (const auto& [type, count] : stats["per_frame"].items())
+    std::printf(" %s %.1f", type.c_str(), count.get<double>());
   std::printf("\n%d frames computed, %d from cache; extraction %.2f ms per frame per core\n", timings.frames_computed,
-              timings.frames_cached, timings.frames_computed ? 1000.0 * timings.extract / timings.frames_computed : 0.0);
+              timings.frames_cached,
+              timings.frames_computed ? 1000.0 * timings.extract / timings.frames_computed : 0.0);
   return 0;
 }
 
 Subcommand AddFeaturesCommand(CLI::App* app) {
   auto args = std::make_shared<FeaturesArgs>();
-  CLI::App* cmd = app->add_subcommand(
-      "features", "extract planar proxies and plane/edge features of every frame into "
-                  "OUTDIR/features.f2cf (reused when inputs and options match) and features.json");
+  CLI::App* cmd = app->add_subcommand("features",
+                                      "extract planar proxies and plane/edge features of every frame into "
+                                      "OUTDIR/features.f2cf (reused when inputs and options match) and features.json");
   cmd->add_option("INPUT", args->input, "dataset folder or .conf")->required();
   cmd->add_option("-o,--output", args->output, "output folder")->required();
   AddFieldFlags(cmd, &args->io);
@@ -85,9 +87,9 @@ Subcommand AddFeaturesCommand(CLI::App* app) {
   cmd->add_flag("-q,--quiet", args->quiet, "no progress output");
 
   return {cmd, [args] {
-    if (args->quiet) spdlog::set_level(spdlog::level::warn);
-    return RunFeatures(*args);
-  }};
+            if (args->quiet) spdlog::set_level(spdlog::level::warn);
+            return RunFeatures(*args);
+          }};
 }
 
 }  // namespace f2c::app

@@ -39,8 +39,7 @@ class FieldFlagAdder {
     } else if constexpr (std::is_enum_v<T>) {
       const std::string name = FieldName(flag, key);
       cmd_->add_option_function<std::string>(
-              flag, [&value, name](const std::string& text) { value = FromName<T>(text, name); },
-              help)
+              flag, [&value, name](const std::string& text) { value = FromName<T>(text, name); }, help)
           ->default_str(NameOf(value))
           ->group(group_);
     } else if constexpr (std::is_integral_v<T> && std::is_unsigned_v<T>) {
@@ -57,7 +56,7 @@ class FieldFlagAdder {
   }
   template <class S>
   void Nested(S& options, const char*, bool with_flags = true) {
-    if (!with_flags) return;  // an internal copy (SIFT loops' RANSAC): the odometry's flags are the ones
+    if (!with_flags) return;           // an internal copy (SIFT loops' RANSAC): the odometry's flags are the ones
     const std::string group = group_;  // a nested struct names its own group
     options.Fields(*this);
     group_ = group;

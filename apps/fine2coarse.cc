@@ -43,10 +43,9 @@ int main(int argc, char** argv) {
   app.allow_config_extras(CLI::config_extras_mode::error);
   app.fallthrough();
   using namespace f2c::app;
-  const std::vector<Subcommand> commands = {AddRegisterCommand(&app), AddFeaturesCommand(&app),
-                                            AddEvaluateCommand(&app), AddSimulateCommand(&app),
-                                            AddDemoCommand(&app),     AddInfoCommand(&app),
-                                            AddFuseCommand(&app),     AddCliReferenceCommand(&app)};
+  const std::vector<Subcommand> commands = {
+      AddRegisterCommand(&app), AddFeaturesCommand(&app), AddEvaluateCommand(&app), AddSimulateCommand(&app),
+      AddDemoCommand(&app),     AddInfoCommand(&app),     AddFuseCommand(&app),     AddCliReferenceCommand(&app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

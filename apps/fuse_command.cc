@@ -42,8 +42,9 @@ int RunFuse(const FuseArgs& args) {
     const auto first = std::find_if(poses.begin(), poses.end(), [](const auto& p) { return p.has_value(); });
     const Eigen::Vector3d up = EstimateUp(fused.mesh, camera_up), ahead = (*first)->linear().col(2);
     const std::string stem = (out.parent_path() / out.stem()).string();
-    const std::pair<std::string, MeshView> views[] = {{stem + "_top.png", TopView(fused.mesh, up, ahead, 1024)},
-                                                      {stem + "_view.png", PerspectiveView(fused.mesh, up, ahead, 1024, 768)}};
+    const std::pair<std::string, MeshView> views[] = {
+        {stem + "_top.png", TopView(fused.mesh, up, ahead, 1024)},
+        {stem + "_view.png", PerspectiveView(fused.mesh, up, ahead, 1024, 768)}};
     for (const auto& [path, view] : views) {
       const std::string tmp = path + ".tmp.png";
       if (!cv::imwrite(tmp, RenderMesh(fused.mesh, view))) ThrowInputError(path, "cannot write image");
@@ -72,8 +73,9 @@ int RunFuse(const FuseArgs& args) {
 Subcommand AddFuseCommand(CLI::App* app) {
   auto args = std::make_shared<FuseArgs>();
   CLI::App* cmd = app->add_subcommand(
-      "fuse", "fuse a dataset's frames at a trajectory's poses (TUM, .log or .conf) into a sparse TSDF volume and "
-              "write its surface as a coloured triangle mesh (binary PLY)");
+      "fuse",
+      "fuse a dataset's frames at a trajectory's poses (TUM, .log or .conf) into a sparse TSDF volume and "
+      "write its surface as a coloured triangle mesh (binary PLY)");
   cmd->add_option("INPUT", args->input, "dataset folder (any layout register reads) or .conf")->required();
   cmd->add_option("--trajectory", args->trajectory, "the poses: TUM text, Redwood .log or the authors' .conf")
       ->required();
@@ -88,9 +90,9 @@ Subcommand AddFuseCommand(CLI::App* app) {
   cmd->add_flag("--json", args->json, "print the timings and sizes as JSON");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress output");
   return {cmd, [args] {
-    if (args->quiet) spdlog::set_level(spdlog::level::warn);
-    return RunFuse(*args);
-  }};
+            if (args->quiet) spdlog::set_level(spdlog::level::warn);
+            return RunFuse(*args);
+          }};
 }
 
 }  // namespace f2c::app

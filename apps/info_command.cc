@@ -30,8 +30,14 @@ int PrintJson(const RgbdSequence& seq) {
                       {"frames", frames}};
   if (seq.intrinsics) {
     const CameraIntrinsics& k = *seq.intrinsics;
-    j["intrinsics"] = {{"fx", k.fx}, {"fy", k.fy}, {"cx", k.cx}, {"cy", k.cy}, {"width", k.width}, {"height", k.height},
-                       {"distortion", k.distortion}, {"source", seq.intrinsics_source}};
+    j["intrinsics"] = {{"fx", k.fx},
+                       {"fy", k.fy},
+                       {"cx", k.cx},
+                       {"cy", k.cy},
+                       {"width", k.width},
+                       {"height", k.height},
+                       {"distortion", k.distortion},
+                       {"source", seq.intrinsics_source}};
   } else {
     j["intrinsics"] = nullptr;
   }
@@ -57,8 +63,9 @@ int RunInfo(const InfoArgs& args) {
                   k.distortion[0], k.distortion[1], k.distortion[2], k.distortion[3], k.distortion[4]);
     }
   } else {
-    std::printf("intrinsics   none in the folder: pass --intrinsics (tum-fr1, tum-fr2, tum-fr3, "
-                "primesense, or fx,fy,cx,cy[,k1,k2,p1,p2[,k3]])\n");
+    std::printf(
+        "intrinsics   none in the folder: pass --intrinsics (tum-fr1, tum-fr2, tum-fr3, "
+        "primesense, or fx,fy,cx,cy[,k1,k2,p1,p2[,k3]])\n");
   }
   std::printf("depth        %s, %.6g m per unit, invalid values %s\n",
               seq.depth_encoding == DepthEncoding::kSun3dBitRotated ? "SUN3D bit-rotated" : "plain 16-bit",
@@ -89,8 +96,9 @@ int RunInfo(const InfoArgs& args) {
 
 Subcommand AddInfoCommand(CLI::App* app) {
   auto args = std::make_shared<InfoArgs>();
-  CLI::App* cmd = app->add_subcommand("info", "what a dataset folder holds: layout, frames, "
-                                                  "intrinsics, depth range, ground truth");
+  CLI::App* cmd = app->add_subcommand("info",
+                                      "what a dataset folder holds: layout, frames, "
+                                      "intrinsics, depth range, ground truth");
   cmd->add_option("INPUT", args->input, "dataset folder or .conf")->required();
   AddFieldFlags(cmd, &args->io);
   cmd->add_flag("--json", args->json,

@@ -77,9 +77,10 @@ int RunRegister(const RegisterArgs& args) {
 Subcommand AddRegisterCommand(CLI::App* app) {
   auto args = std::make_shared<RegisterArgs>();
   CLI::App* cmd = app->add_subcommand(
-      "register", "align the frames (keyframe odometry: tracking, SIFT + 3D RANSAC, ICP fallback) into T0, refine "
-                  "it fine-to-coarse, fuse a mesh and write OUTDIR/trajectory.txt (TUM), trajectory.log, "
-                  "trajectory.conf, trajectory_t0.txt, mesh.ply, odometry.json, run.json");
+      "register",
+      "align the frames (keyframe odometry: tracking, SIFT + 3D RANSAC, ICP fallback) into T0, refine "
+      "it fine-to-coarse, fuse a mesh and write OUTDIR/trajectory.txt (TUM), trajectory.log, "
+      "trajectory.conf, trajectory_t0.txt, mesh.ply, odometry.json, run.json");
   cmd->add_option("INPUT", args->input, "dataset folder (TUM, 7-Scenes/3DMatch, Redwood/Open3D, SUN3D) or .conf")
       ->required();
   cmd->add_option("-o,--output", args->output, "output folder")->required();
@@ -100,60 +101,64 @@ Subcommand AddRegisterCommand(CLI::App* app) {
       ->default_str("default");
   AddFieldFlags(cmd, &args->options.refine);  // refine/refine.h
   auto write_config = std::make_shared<std::string>();
-  cmd->add_option("--write-config", *write_config, "write this run's options (all of them) to FILE as TOML, for --config")
+  cmd->add_option("--write-config", *write_config,
+                  "write this run's options (all of them) to FILE as TOML, for --config")
       ->group("Output");
   cmd->add_option("--initial-trajectory", args->initial_trajectory,
-                  "refine from these poses instead of T0: a trajectory (TUM by time stamp, .log or .conf in order), or a dataset "
+                  "refine from these poses instead of T0: a trajectory (TUM by time stamp, .log or .conf in order), or "
+                  "a dataset "
                   "folder's ground truth")
       ->type_name("FILE")
       ->group("Refinement: windows (paper 4.2)");
-  cmd->add_flag("--save-iterations", args->save_iterations, "write each refinement iteration's trajectory to OUTDIR/iterations/");
+  cmd->add_flag("--save-iterations", args->save_iterations,
+                "write each refinement iteration's trajectory to OUTDIR/iterations/");
   AddFieldFlags(cmd, &args->options.fusion);
   cmd->add_flag("--no-mesh", flags->no_mesh, "do not fuse the frames into OUTDIR/mesh.ply");
   cmd->add_flag("--no-report", flags->no_report, "do not write OUTDIR/report.html");
   cmd->add_flag("--no-features", flags->no_features, "skip the feature extraction, and so the refinement (T0 only)");
   cmd->add_flag("--no-cache", flags->no_cache, "ignore and do not write OUTDIR/cache");
-  cmd->add_option("--threads", args->options.threads, "worker threads (0: all cores, at most 1024; results are the same for any)")
+  cmd->add_option("--threads", args->options.threads,
+                  "worker threads (0: all cores, at most 1024; results are the same for any)")
       ->capture_default_str();
   cmd->add_flag("-q,--quiet", args->options.quiet, "no progress output");
 
   cmd->formatter(std::make_shared<EverydayHelp>(kEverydayOptions));
 
   return {cmd, [app, cmd, args, flags, write_config] {
-    ApplyPreset(flags->preset, &args->options, [cmd](const std::string& flag) { return cmd->count(flag) > 0; });
-    if (!write_config->empty()) {
-      // Every option with its value (defaults too), so the file reproduces the run; but the
-      // preset's own values are left to the preset (written, they would count as given, and
-      // the preset would not set them when the file is read).
-      std::set<std::string> left_to_preset = {"write-config"};
-      for (const PresetSetting& s : PresetSettings(flags->preset)) {
-        const CLI::Option* opt = cmd->get_option(s.flag);
-        if (opt->count() == 0) left_to_preset.insert(opt->get_single_name());
-      }
-      std::string text;
-      std::istringstream lines(app->config_to_str(true, false));
-      for (std::string line; std::getline(lines, line);) {
-        std::string key = line.substr(0, line.find('='));  // "register.polish-iterations=6"
-        if (const size_t dot = key.rfind('.'); dot != std::string::npos) key = key.substr(dot + 1);
-        if (!left_to_preset.count(key)) text += line + "\n";
-      }
-      WriteFileAtomic(*write_config, text);
-      spdlog::info("options written to {}", *write_config);
-    }
-    RegisterOptions& options = args->options;
-    options.extract_features = !flags->no_features;
-    options.refine_poses = flags->stop_after == "refine";
-    options.fuse_mesh = !flags->no_mesh && flags->stop_after != "odometry";
-    options.keep_iterations = args->save_iterations;
-    args->write_report = !flags->no_report;
-    args->use_cache = !flags->no_cache;
-    // Every stage's options, once, before the input is read or minutes of odometry run.
-    options.CheckStart(!args->initial_trajectory.empty());
-    args->io.Check();
-    options.Check();
-    if (options.quiet) spdlog::set_level(spdlog::level::warn);
-    return RunRegister(*args);
-  }};
+            ApplyPreset(flags->preset, &args->options, [cmd](const std::string& flag) { return cmd->count(flag) > 0; });
+            if (!write_config->empty()) {
+              // Every option with its value (defaults too), so the file reproduces the run; but the
+              // preset's own values are left to the preset (written, they would count as given, and
+              // the preset would not set them when the file is read).
+              std::set<std::string> left_to_preset = {"write-config"};
+              for (const PresetSetting& s : PresetSettings(flags->preset)) {
+                const CLI::Option* opt = cmd->get_option(s.flag);
+                if (opt->count() == 0) left_to_preset.insert(opt->get_single_name());
+              }
+              std::string text;
+              std::istringstream lines(app->config_to_str(true, false));
+              for (std::string line; std::getline(lines, line);) {
+                std::string key = line.substr(0, line.find('='));  // "register.polish-iterations=6"
+                if (const size_t dot = key.rfind('.'); dot != std::string::npos) key = key.substr(dot + 1);
+                if (!left_to_preset.count(key)) text += line + "\n";
+              }
+              WriteFileAtomic(*write_config, text);
+              spdlog::info("options written to {}", *write_config);
+            }
+            RegisterOptions& options = args->options;
+            options.extract_features = !flags->no_features;
+            options.refine_poses = flags->stop_after == "refine";
+            options.fuse_mesh = !flags->no_mesh && flags->stop_after != "odometry";
+            options.keep_iterations = args->save_iterations;
+            args->write_report = !flags->no_report;
+            args->use_cache = !flags->no_cache;
+            // Every stage's options, once, before the input is read or minutes of odometry run.
+            options.CheckStart(!args->initial_trajectory.empty());
+            args->io.Check();
+            options.Check();
+            if (options.quiet) spdlog::set_level(spdlog::level::warn);
+            return RunRegister(*args);
+          }};
 }
 
 }  // namespace f2c::app

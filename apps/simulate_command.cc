@@ -26,9 +26,10 @@ int RunSimulate(const SimulateArgs& args) {
   for (size_t i = 1; i < poses.size(); ++i) {
     path += (poses.world_from_camera[i].translation() - poses.world_from_camera[i - 1].translation()).norm();
   }
-  std::printf("wrote %s: %d frames of '%s' (%.1f m of camera path) in %.1f s, TUM layout with "
-              "camera-intrinsics.txt, groundtruth.txt, correspondences.txt\n",
-              args.output.c_str(), options.walk.frames, options.scene.c_str(), path, timer.Seconds());
+  std::printf(
+      "wrote %s: %d frames of '%s' (%.1f m of camera path) in %.1f s, TUM layout with "
+      "camera-intrinsics.txt, groundtruth.txt, correspondences.txt\n",
+      args.output.c_str(), options.walk.frames, options.scene.c_str(), path, timer.Seconds());
   return 0;
 }
 
@@ -58,31 +59,32 @@ int RunDemo(const DemoArgs& args) {
   std::printf("\nrefined fine-to-coarse:\n");
   eval.estimate = (fs::path(reg.output) / "trajectory.txt").string();
   RunEvaluate(eval);
-  std::printf("\nscan (TUM layout, ground truth): %s\nposes (TUM, .log, .conf), mesh.ply, run.json: %s\n"
-              "demo took %.1f s\n",
-              sim_args.output.c_str(), reg.output.c_str(), timer.Seconds());
+  std::printf(
+      "\nscan (TUM layout, ground truth): %s\nposes (TUM, .log, .conf), mesh.ply, run.json: %s\n"
+      "demo took %.1f s\n",
+      sim_args.output.c_str(), reg.output.c_str(), timer.Seconds());
   return 0;
 }
 
 Subcommand AddSimulateCommand(CLI::App* app) {
   auto args = std::make_shared<SimulateArgs>();
-  CLI::App* cmd = app->add_subcommand(
-      "simulate", "render a synthetic multi-room RGB-D scan with exact ground truth (TUM layout)");
+  CLI::App* cmd =
+      app->add_subcommand("simulate", "render a synthetic multi-room RGB-D scan with exact ground truth (TUM layout)");
   cmd->add_option("-o,--output", args->output, "output folder")->required();
   AddFieldFlags(cmd, &args->options);  // sim/simulate.h
   cmd->add_flag("--exact", args->exact, "no sensor noise, holes or blur");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress output");
 
   return {cmd, [args] {
-    if (args->quiet) spdlog::set_level(spdlog::level::warn);
-    return RunSimulate(*args);
-  }};
+            if (args->quiet) spdlog::set_level(spdlog::level::warn);
+            return RunSimulate(*args);
+          }};
 }
 
 Subcommand AddDemoCommand(CLI::App* app) {
   auto args = std::make_shared<DemoArgs>();
-  CLI::App* cmd = app->add_subcommand(
-      "demo", "no download needed: simulate an apartment scan, register it, evaluate it");
+  CLI::App* cmd =
+      app->add_subcommand("demo", "no download needed: simulate an apartment scan, register it, evaluate it");
   cmd->add_option("-o,--output", args->output, "output folder")->capture_default_str();
   cmd->add_option("--frames", args->frames, "frames to simulate (3 to 100,000)")->capture_default_str();
   cmd->add_option_function<std::string>(

@@ -23,8 +23,10 @@ int main(int argc, char** argv) {
   using namespace f2c;
   const int passes = argc > 1 ? std::max(2, std::stoi(argv[1])) : 3;
   const std::filesystem::path data = argc > 2 ? argv[2] : "../shared/data";
-  std::printf("| sequence | frames | proxies | features | ms/frame, 1 core, cold pass | ms/frame, 1 core, warm (mean of %d passes) |\n",
-              passes - 1);
+  std::printf(
+      "| sequence | frames | proxies | features | ms/frame, 1 core, cold pass | ms/frame, 1 core, warm (mean of %d "
+      "passes) |\n",
+      passes - 1);
   std::printf("|---|---|---|---|---|---|\n");
   for (const char* name : {"tum_fr1_xyz_15hz", "7scenes_redkitchen_15hz", "tum_fr1_desk_9", "sun3d_mit76_studyroom_5",
                            "open3d_testdata_rgbd"}) {

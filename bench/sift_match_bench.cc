@@ -41,7 +41,9 @@ int main(int argc, char** argv) {
   const int pairs = argc > 1 ? std::max(1, std::stoi(argv[1])) : 20;
   const int repeats = argc > 2 ? std::max(1, std::stoi(argv[2])) : 5;
   const std::filesystem::path data = argc > 3 ? argv[3] : "../shared/data";
-  std::printf("| sequence | pairs | keypoints per frame | OpenCV BFMatcher (ms/pair) | MatchSiftRatio (ms/pair) | same matches |\n");
+  std::printf(
+      "| sequence | pairs | keypoints per frame | OpenCV BFMatcher (ms/pair) | MatchSiftRatio (ms/pair) | same matches "
+      "|\n");
   std::printf("|---|---|---|---|---|---|\n");
   for (const char* name : {"tum_fr1_xyz_15hz", "7scenes_redkitchen_15hz"}) {
     const std::optional<RgbdSequence> opened = bench::OpenSequence(data, name);

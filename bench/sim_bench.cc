@@ -17,7 +17,9 @@ int main(int argc, char** argv) {
   using namespace f2c;
   const int frames = argc > 1 ? std::stoi(argv[1]) : 60;
   const CameraIntrinsics k{525.0, 525.0, 319.5, 239.5, 640, 480};
-  std::printf("| scene | triangles | exact render (frames/s) | with sensor model (frames/s) | PNG encode colour+depth (frames/s) |\n");
+  std::printf(
+      "| scene | triangles | exact render (frames/s) | with sensor model (frames/s) | PNG encode colour+depth "
+      "(frames/s) |\n");
   std::printf("|---|---|---|---|---|\n");
   for (const std::string& name : sim::SceneNames()) {
     const sim::Scene scene = sim::BuildScene(name, 0);

@@ -101,7 +101,8 @@ int Run(int argc, char** argv) {
     truth[key(sequence.ground_truth->timestamps[i])] = sequence.ground_truth->world_from_camera[i];
   }
   if (cache.size() != sequence.frames.size()) {
-    throw f2c::InputError(fmt::format("{}: {} frames, the dataset has {}", argv[2], cache.size(), sequence.frames.size()));
+    throw f2c::InputError(
+        fmt::format("{}: {} frames, the dataset has {}", argv[2], cache.size(), sequence.frames.size()));
   }
   for (size_t f = 0; f < cache.size(); ++f) {
     const auto e = estimated.find(key(sequence.frames[f].timestamp));

@@ -4,6 +4,7 @@
 # --peers also installs what bench/run_benchmarks.sh needs to run Open3D's reconstruction
 # system beside us (python3-open3d, python3-joblib); the build and the tests do not need it.
 # clang, libclang-rt-14-dev: the sanitizer build and the libFuzzer targets (scripts/test_sanitized.sh).
+# clang-format: the test that the sources follow .clang-format (scripts/check_format.sh).
 # libopenblas0-pthread: CHOLMOD (Ceres) then uses OpenBLAS instead of the reference BLAS
 # or ATLAS; the refinement solves faster (BENCHMARKS.md). libsuitesparse-dev: CHOLMOD, which
 # also factors our own one-step normal equations (src/f2c/optim/gauss_newton.h).
@@ -15,7 +16,7 @@ packages=(
   libdeflate-dev libturbojpeg0-dev libxxhash-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev libtinyxml2-dev
   libjs-three chromium
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev clang-format
 )
 [ "${1:-}" = "--peers" ] && packages+=(python3-open3d python3-joblib)
 

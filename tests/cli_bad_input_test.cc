@@ -23,7 +23,7 @@ using namespace cli_test;  // the runner and inputs both CLI test files share
 TEST(Cli, BadUsageExitsTwo) {
   EXPECT_EQ(RunCli("").code, 2);
   EXPECT_EQ(RunCli("frobnicate").code, 2);
-  EXPECT_EQ(RunCli("register /tmp").code, 2);  // -o missing
+  EXPECT_EQ(RunCli("register /tmp").code, 2);                        // -o missing
   EXPECT_EQ(RunCli("register /tmp -o /tmp/x --every two").code, 2);  // not a number
 }
 
@@ -64,7 +64,8 @@ TEST(Cli, UnknownWordsNegativeSeedsAndAbsurdCountsAreOneLine) {
       {"register /tmp -o " + out.string() + " --seed -1", seeds + "'-1'\n"},
       {"register /tmp -o " + out.string() + " --refine-seed 1x",
        "error: --refine-seed: must be a whole number from 0 to 18446744073709551615, got '1x'\n"},
-      {"register /tmp -o " + out.string() + " --threads 100000", "error: --threads: must be in [0, 1024], got 100000\n"},
+      {"register /tmp -o " + out.string() + " --threads 100000",
+       "error: --threads: must be in [0, 1024], got 100000\n"},
       {"simulate -o " + out.string() + " --seed -1", seeds + "'-1'\n"},
       {"demo -o " + out.string() + " --seed -5", seeds + "'-5'\n"},
       {"demo -o " + out.string() + " --frames 2", "error: --frames: must be in [3, 100000], got 2\n"},
@@ -89,7 +90,8 @@ TEST(Cli, UnwritableOutputFolderFailsBeforeWork) {
   WriteFileAtomic(blocker, "x");
   const Result r = RunCli(dir.string() + " --intrinsics primesense -o " + (blocker / "out").string() + " -q");
   // register is the subcommand; put it first.
-  const Result r2 = RunCli("register " + dir.string() + " --intrinsics primesense -o " + (blocker / "out").string() + " -q");
+  const Result r2 =
+      RunCli("register " + dir.string() + " --intrinsics primesense -o " + (blocker / "out").string() + " -q");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r2.code, 1);
   EXPECT_EQ(r2.output.rfind("error: " + (blocker / "out").string() + ": cannot create output folder", 0), 0u)
@@ -99,14 +101,16 @@ TEST(Cli, UnwritableOutputFolderFailsBeforeWork) {
 TEST(Cli, BadRefinementOptionFailsBeforeAnyWork) {
   const fs::path dir = SyntheticTum("cli_refine_bad", 2);
   const fs::path out = testing::FreshTempDir("cli_refine_bad_out") / "run";
-  const Result r = RunCli("register " + dir.string() + " --intrinsics primesense -q --window-frames 1 -o " + out.string());
+  const Result r =
+      RunCli("register " + dir.string() + " --intrinsics primesense -q --window-frames 1 -o " + out.string());
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(r.output, "error: --window-frames: must be >= 2, got 1\n");
   EXPECT_FALSE(fs::exists(out));
   EXPECT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --windows time -o " + out.string()).output,
             "error: --windows: unknown value 'time' (frames, path)\n");
-  EXPECT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --thresholds time -o " + out.string()).output,
-            "error: --thresholds: unknown value 'time' (age, path)\n");
+  EXPECT_EQ(
+      RunCli("register " + dir.string() + " --intrinsics primesense -q --thresholds time -o " + out.string()).output,
+      "error: --thresholds: unknown value 'time' (age, path)\n");
 }
 
 // A start trajectory that ends before the last frame is refused before any work, naming the
@@ -141,10 +145,11 @@ TEST(Cli, InitialTrajectoryWithoutAFrameFailsBeforeAnyWork) {
   EXPECT_EQ(odometry.output,
             "error: --initial-trajectory: only the refinement starts from it, and --stop-after odometry skips the "
             "refinement\n");
-  EXPECT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --no-features --initial-trajectory " +
-                   dir.string() + " -o " + out.string())
-                .output,
-            "error: --initial-trajectory: only the refinement starts from it, and --no-features skips the refinement\n");
+  EXPECT_EQ(
+      RunCli("register " + dir.string() + " --intrinsics primesense -q --no-features --initial-trajectory " +
+             dir.string() + " -o " + out.string())
+          .output,
+      "error: --initial-trajectory: only the refinement starts from it, and --no-features skips the refinement\n");
   EXPECT_FALSE(fs::exists(out));
 }
 
@@ -226,7 +231,8 @@ TEST(Cli, FailedWritesToStdoutAndAbsurdOptionsAreErrors) {
 TEST(Cli, ADamagedCachedPairIsRecomputed) {
   const fs::path dir = SyntheticTum("cli_cache_damage", 4);
   const fs::path out = testing::FreshTempDir("cli_cache_damage_out");
-  const std::string cmd = "register " + dir.string() + " --intrinsics primesense -q --stop-after odometry -o " + out.string();
+  const std::string cmd =
+      "register " + dir.string() + " --intrinsics primesense -q --stop-after odometry -o " + out.string();
   ASSERT_EQ(RunCli(cmd).code, 0);
   const std::string before = ReadFileToString(out / "trajectory.txt");
   nlohmann::json cache = nlohmann::json::parse(ReadFileToString(out / "cache" / "odometry_pairs.json"));
@@ -235,7 +241,8 @@ TEST(Cli, ADamagedCachedPairIsRecomputed) {
   WriteFileAtomic(out / "cache" / "odometry_pairs.json", cache.dump());
   const Result r = RunCli(cmd);
   ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_NE(r.output.find("a cached pair is damaged (prev_from_curr is not a rotation); recomputing it"), std::string::npos)
+  EXPECT_NE(r.output.find("a cached pair is damaged (prev_from_curr is not a rotation); recomputing it"),
+            std::string::npos)
       << r.output;
   EXPECT_EQ(ReadFileToString(out / "trajectory.txt"), before);
 }

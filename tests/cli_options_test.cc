@@ -30,7 +30,8 @@ TEST(CliOptions, HelpListsTheOptionsUsersSetAndHelpAllEveryOne) {
   const int shown = OptionLines(help.output);
   EXPECT_LE(shown, 30) << help.output;
   EXPECT_GE(shown, 20) << help.output;
-  for (const char* flag : {"--output", "--intrinsics", "--preset", "--voxel-size", "--threads", "--no-mesh", "--last"}) {
+  for (const char* flag :
+       {"--output", "--intrinsics", "--preset", "--voxel-size", "--threads", "--no-mesh", "--last"}) {
     EXPECT_NE(help.output.find(flag), std::string::npos) << flag;
   }
   EXPECT_EQ(help.output.find("--ransac-threshold"), std::string::npos);
@@ -47,9 +48,10 @@ TEST(CliOptions, HelpListsTheOptionsUsersSetAndHelpAllEveryOne) {
 
 TEST(CliOptions, APresetSetsItsValuesButAnOptionGivenBesideItWins) {
   const fs::path scan = SyntheticTum("preset", 12), out = scan.parent_path() / "out";
-  const Result r = RunCli("register " + scan.string() + " -o " + out.string() +
-                          " --intrinsics primesense -q --no-mesh --no-report --preset paper --polish-iterations 2 --write-config " +
-                          (scan.parent_path() / "paper.toml").string());
+  const Result r =
+      RunCli("register " + scan.string() + " -o " + out.string() +
+             " --intrinsics primesense -q --no-mesh --no-report --preset paper --polish-iterations 2 --write-config " +
+             (scan.parent_path() / "paper.toml").string());
   ASSERT_EQ(r.code, 0) << r.output;
   const nlohmann::json run = nlohmann::json::parse(ReadFileToString(out / "run.json"));
   EXPECT_EQ(run["preset"], "paper");
@@ -66,7 +68,8 @@ TEST(CliOptions, APresetSetsItsValuesButAnOptionGivenBesideItWins) {
   EXPECT_NE(config.find("polish-iterations=2"), std::string::npos) << config;
   EXPECT_EQ(config.find("weight-velocity="), std::string::npos) << config;
   const fs::path again = scan.parent_path() / "again";
-  ASSERT_EQ(RunCli("register " + scan.string() + " -o " + again.string() + " --intrinsics primesense -q --no-mesh --no-report --config " +
+  ASSERT_EQ(RunCli("register " + scan.string() + " -o " + again.string() +
+                   " --intrinsics primesense -q --no-mesh --no-report --config " +
                    (scan.parent_path() / "paper.toml").string())
                 .code,
             0);
@@ -75,8 +78,10 @@ TEST(CliOptions, APresetSetsItsValuesButAnOptionGivenBesideItWins) {
   EXPECT_EQ(ReadFileToString(again / "trajectory.txt"), ReadFileToString(out / "trajectory.txt"));
   // Every flag the fast preset names is one of register's: its config leaves them out.
   const fs::path fast_config = scan.parent_path() / "fast.toml";
-  ASSERT_EQ(RunCli("register " + scan.string() + " --intrinsics primesense -q --no-report --stop-after odometry "
-                   "--preset fast --write-config " + fast_config.string() + " -o " + (scan.parent_path() / "fast").string())
+  ASSERT_EQ(RunCli("register " + scan.string() +
+                   " --intrinsics primesense -q --no-report --stop-after odometry "
+                   "--preset fast --write-config " +
+                   fast_config.string() + " -o " + (scan.parent_path() / "fast").string())
                 .code,
             0);
   const std::string fast = ReadFileToString(fast_config);
@@ -84,7 +89,8 @@ TEST(CliOptions, APresetSetsItsValuesButAnOptionGivenBesideItWins) {
   for (const char* key : {"voxel-size=", "polish-iterations=", "self-check="}) {
     EXPECT_EQ(fast.find(key), std::string::npos) << key;
   }
-  const Result bad = RunCli("register " + scan.string() + " --intrinsics primesense -o " + out.string() + " --preset quick");
+  const Result bad =
+      RunCli("register " + scan.string() + " --intrinsics primesense -o " + out.string() + " --preset quick");
   EXPECT_EQ(bad.code, 1);
   EXPECT_EQ(bad.output, "error: --preset: unknown value 'quick' (default, fast, paper)\n");
 }

@@ -36,7 +36,8 @@ TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
   const fs::path out = testing::FreshTempDir("cli_register_out");
   const Result r = RunCli("register " + dir.string() + " --intrinsics 525,525,319.5,239.5 -q -o " + out.string());
   ASSERT_EQ(r.code, 0) << r.output;
-  for (const char* file : {"trajectory.txt", "trajectory.log", "trajectory.conf", "odometry.json", "run.json", "mesh.ply"}) {
+  for (const char* file :
+       {"trajectory.txt", "trajectory.log", "trajectory.conf", "odometry.json", "run.json", "mesh.ply"}) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
   for (const auto& e : fs::directory_iterator(out)) {
@@ -51,12 +52,13 @@ TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
   const Trajectory t = ReadTumTrajectory(out / "trajectory.txt");
   ASSERT_EQ(t.size(), 5u);
   EXPECT_NEAR(t.world_from_camera[4].translation().x(), 0.12, 0.01);  // 4 steps of 3 cm
-  const Result e = RunCli("evaluate --json --estimate " + (out / "trajectory.txt").string() +
-                       " --ground-truth " + dir.string());
+  const Result e =
+      RunCli("evaluate --json --estimate " + (out / "trajectory.txt").string() + " --ground-truth " + dir.string());
   ASSERT_EQ(e.code, 0) << e.output;
   EXPECT_NE(e.output.find("\"ate_m\""), std::string::npos);
   // The .log estimate carries frame ids; with the dataset as ground truth it evaluates too.
-  const Result log = RunCli("evaluate --estimate " + (out / "trajectory.log").string() + " --ground-truth " + dir.string());
+  const Result log =
+      RunCli("evaluate --estimate " + (out / "trajectory.log").string() + " --ground-truth " + dir.string());
   EXPECT_EQ(log.code, 0) << log.output;
   EXPECT_NE(log.output.find("5 of 5 poses associated"), std::string::npos) << log.output;
   // The page for the .log estimate (frame ids placed in time), with T0 beside it.
@@ -65,8 +67,8 @@ TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
                                  " --report " + (out / "eval.html").string());
   ASSERT_EQ(page_run.code, 0) << page_run.output;
   const std::string page = ReadFileToString(out / "eval.html");
-  for (const char* s : {"<h2>Errors</h2>", "<h2>Top-down slice of the registered points</h2>", ">final</text>",
-                        ">T0</text>"}) {
+  for (const char* s :
+       {"<h2>Errors</h2>", "<h2>Top-down slice of the registered points</h2>", ">final</text>", ">T0</text>"}) {
     EXPECT_NE(page.find(s), std::string::npos) << s;
   }
   EXPECT_EQ(page.find(">no data</text>"), std::string::npos);  // every plot drawn, the .log's errors too
@@ -83,8 +85,8 @@ TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
 TEST(Cli, KeyframeOdometryGivesEveryFrameOnePoseInEveryOutput) {
   const fs::path dir = SyntheticTum("cli_keyframes", 12);
   const fs::path out = testing::FreshTempDir("cli_keyframes_out");
-  const Result r = RunCli("register " + dir.string() + " --intrinsics primesense -q --stop-after odometry -o " +
-                          out.string());
+  const Result r =
+      RunCli("register " + dir.string() + " --intrinsics primesense -q --stop-after odometry -o " + out.string());
   ASSERT_EQ(r.code, 0) << r.output;
   const Trajectory tum = ReadTumTrajectory(out / "trajectory.txt");
   const Trajectory log = ReadLogTrajectory(out / "trajectory.log");
@@ -116,8 +118,8 @@ TEST(Cli, KeyframeOdometryGivesEveryFrameOnePoseInEveryOutput) {
   EXPECT_EQ(run["stages"]["odometry"]["sift_frames"].get<int>(), keyframes);
 
   const fs::path off = testing::FreshTempDir("cli_keyframes_off");
-  ASSERT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --stop-after odometry --keyframes off -o " +
-                   off.string())
+  ASSERT_EQ(RunCli("register " + dir.string() +
+                   " --intrinsics primesense -q --stop-after odometry --keyframes off -o " + off.string())
                 .code,
             0);
   const nlohmann::json chain = nlohmann::json::parse(ReadFileToString(off / "odometry.json"));
@@ -146,7 +148,8 @@ TEST(Cli, RegisterRefinesAndKeepsT0) {
   EXPECT_NE(run.find("\"result\": \"refined\""), std::string::npos);
   EXPECT_NE(run.find("\"candidate_pairs\""), std::string::npos);
   // l_0 = 4 over 12 frames: 4, 8, 16 (full), then 2 extra and 6 polish iterations.
-  for (int i = 1; i <= 11; ++i) EXPECT_TRUE(fs::exists(out / "iterations" / fmt::format("iteration_{:02d}.txt", i))) << i;
+  for (int i = 1; i <= 11; ++i)
+    EXPECT_TRUE(fs::exists(out / "iterations" / fmt::format("iteration_{:02d}.txt", i))) << i;
   EXPECT_FALSE(fs::exists(out / "iterations" / "iteration_12.txt"));
 
   const fs::path odo = testing::FreshTempDir("cli_refine_odometry");
@@ -171,12 +174,14 @@ TEST(Cli, RegisterRefinesASimulatedObjectScan) {
     EXPECT_EQ(it["self_check"]["undone"].get<bool>(), false);
   }
   EXPECT_EQ(refine["self_check_undone_iterations"].get<int>(), 0);
-  EXPECT_LT(refine["self_check"]["after"]["rms_m"].get<double>(), refine["self_check"]["before"]["rms_m"].get<double>());
+  EXPECT_LT(refine["self_check"]["after"]["rms_m"].get<double>(),
+            refine["self_check"]["before"]["rms_m"].get<double>());
   EXPECT_FALSE(refine["self_check"]["undone"].get<bool>());
   EXPECT_NE(ReadFileToString(dir / "out" / "report.html").find("0 iterations undone"), std::string::npos);
   auto measure = [&](const std::string& name) {
-    const Result e = RunCli("evaluate --json --estimate " + (dir / "out" / name).string() + " --ground-truth " +
-                            (dir / "scan").string(), " 2>/dev/null");
+    const Result e = RunCli(
+        "evaluate --json --estimate " + (dir / "out" / name).string() + " --ground-truth " + (dir / "scan").string(),
+        " 2>/dev/null");
     EXPECT_EQ(e.code, 0);
     const nlohmann::json j = nlohmann::json::parse(e.output);
     return std::pair(j["ate_m"]["rmse"].get<double>(), j["correspondences"]["distance_m"]["rmse"].get<double>());
@@ -205,7 +210,8 @@ TEST(Cli, RegisterRefinesFromAGivenTrajectory) {
   ASSERT_EQ(refined.size(), 12u);
   EXPECT_LT((refined.world_from_camera[0].translation() - moved.world_from_camera[0].translation()).norm(), 1e-6);
   for (size_t i = 0; i < refined.size(); ++i) {
-    EXPECT_LT((refined.world_from_camera[i].translation() - moved.world_from_camera[i].translation()).norm(), 0.01) << i;
+    EXPECT_LT((refined.world_from_camera[i].translation() - moved.world_from_camera[i].translation()).norm(), 0.01)
+        << i;
   }
   EXPECT_NE(ReadFileToString(out / "run.json").find("\"initial\": \"" + start.string() + "\""), std::string::npos);
 }
@@ -223,7 +229,8 @@ TEST(Cli, FuseWritesTheRoomsSurfacesAndRegisterFusesItsPoses) {
   ASSERT_GT(mesh.faces.size(), 10000u);
   ASSERT_EQ(mesh.colors.size(), mesh.positions.size());
   std::vector<double> d;
-  for (const Eigen::Vector3f& p : mesh.positions) d.push_back(testing::SurfaceDistance(testing::SyntheticScene(), p.cast<double>()));
+  for (const Eigen::Vector3f& p : mesh.positions)
+    d.push_back(testing::SurfaceDistance(testing::SyntheticScene(), p.cast<double>()));
   std::nth_element(d.begin(), d.begin() + d.size() * 9 / 10, d.end());
   EXPECT_LT(d[d.size() * 9 / 10], 0.01);
 
@@ -254,7 +261,9 @@ TEST(Cli, EvaluateMeshAgainstTheSimulatedSurfaces) {
   ASSERT_EQ(RunCli("simulate --scene two-rooms --frames 20 --exact -q -o " + (dir / "scan").string()).code, 0);
   ASSERT_TRUE(fs::exists(dir / "scan" / "scene.ply"));
   const std::string gt = (dir / "scan" / "groundtruth.txt").string();
-  ASSERT_EQ(RunCli("fuse " + (dir / "scan").string() + " --trajectory " + gt + " -q -o " + (dir / "gt.ply").string()).code, 0);
+  ASSERT_EQ(
+      RunCli("fuse " + (dir / "scan").string() + " --trajectory " + gt + " -q -o " + (dir / "gt.ply").string()).code,
+      0);
   const Result exact = RunCli("evaluate --json --estimate " + gt + " --ground-truth " + (dir / "scan").string() +
                               " --mesh " + (dir / "gt.ply").string());
   ASSERT_EQ(exact.code, 0) << exact.output;
@@ -271,7 +280,9 @@ TEST(Cli, EvaluateMeshAgainstTheSimulatedSurfaces) {
   }
   WriteTumTrajectory(dir / "off.txt", off);
   ASSERT_EQ(RunCli("fuse " + (dir / "scan").string() + " --trajectory " + (dir / "off.txt").string() + " -q -o " +
-                   (dir / "off.ply").string()).code, 0);
+                   (dir / "off.ply").string())
+                .code,
+            0);
   const Result wrong = RunCli("evaluate --json --estimate " + (dir / "off.txt").string() + " --ground-truth " +
                               (dir / "scan").string() + " --mesh " + (dir / "off.ply").string());
   ASSERT_EQ(wrong.code, 0) << wrong.output;
@@ -284,12 +295,15 @@ TEST(Cli, EvaluateMeshAgainstTheSimulatedSurfaces) {
   points.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   WritePly(dir / "points.ply", points);
   EXPECT_EQ(RunCli("evaluate --estimate " + gt + " --ground-truth " + gt + " --mesh " + (dir / "gt.ply").string() +
-                   " --true-surfaces " + (dir / "points.ply").string()).output,
+                   " --true-surfaces " + (dir / "points.ply").string())
+                .output,
             "error: " + (dir / "points.ply").string() + ": has no triangles: the true surfaces must be a PLY mesh\n");
   // Without true surfaces: one line naming the mesh.
-  EXPECT_EQ(RunCli("evaluate --estimate " + gt + " --ground-truth " + gt + " --mesh " + (dir / "gt.ply").string()).output,
-            "error: " + (dir / "gt.ply").string() + ": --mesh needs the true surfaces: --true-surfaces FILE, or "
-            "--ground-truth as a simulated folder (with scene.ply)\n");
+  EXPECT_EQ(
+      RunCli("evaluate --estimate " + gt + " --ground-truth " + gt + " --mesh " + (dir / "gt.ply").string()).output,
+      "error: " + (dir / "gt.ply").string() +
+          ": --mesh needs the true surfaces: --true-surfaces FILE, or "
+          "--ground-truth as a simulated folder (with scene.ply)\n");
 }
 
 // Any run's options can be written and re-run: the same poses come back.
@@ -297,8 +311,10 @@ TEST(Cli, WriteConfigThenConfigReproducesTheRun) {
   const fs::path dir = SyntheticTum("cli_config", 8);
   const fs::path out = testing::FreshTempDir("cli_config_out");
   const fs::path config = out / "run.toml";
-  ASSERT_EQ(RunCli("register " + dir.string() + " --intrinsics primesense -q --window-frames 2 --no-sift-loops "
-                   "--loss huber --write-config " + config.string() + " -o " + (out / "a").string())
+  ASSERT_EQ(RunCli("register " + dir.string() +
+                   " --intrinsics primesense -q --window-frames 2 --no-sift-loops "
+                   "--loss huber --write-config " +
+                   config.string() + " -o " + (out / "a").string())
                 .code,
             0);
   const std::string text = ReadFileToString(config);
@@ -353,9 +369,10 @@ TEST(Cli, StructureAddsTheHierarchyAndItsTermsToEachIteration) {
     EXPECT_NEAR(it["coplanarity_noise_factor"].get<double>(), factor, 1e-12 * factor);
     EXPECT_NEAR(it["weights"]["E_H"].get<double>(), 1000 * factor, 1e-9 * factor);
   }
-  EXPECT_NEAR(on["stages"]["refine"]["coplanarity_noise_factor"].get<double>(),
-              std::min(1.0, std::pow(0.25 / on["stages"]["refine"]["initial_child_normal_spread_deg"].get<double>(), 2)),
-              1e-12);
+  EXPECT_NEAR(
+      on["stages"]["refine"]["coplanarity_noise_factor"].get<double>(),
+      std::min(1.0, std::pow(0.25 / on["stages"]["refine"]["initial_child_normal_spread_deg"].get<double>(), 2)),
+      1e-12);
   ASSERT_EQ(RunCli(base + "--structure --structure-from 2 --no-fine-to-coarse -o " + (out / "late").string()).code, 0);
   const nlohmann::json late = nlohmann::json::parse(ReadFileToString(out / "late" / "run.json"));
   EXPECT_EQ(late["stages"]["refine"]["initial_child_normal_spread_deg"].get<double>(),
@@ -373,7 +390,8 @@ TEST(Cli, StructureAddsTheHierarchyAndItsTermsToEachIteration) {
 TEST(Cli, FeaturesWritesTheCacheImagesAndPointSetsAndReusesTheCache) {
   const fs::path dir = SyntheticTum("cli_features", 3);
   const fs::path out = testing::FreshTempDir("cli_features_out");
-  const std::string command = "features " + dir.string() + " --intrinsics primesense -q --images --ply -o " + out.string();
+  const std::string command =
+      "features " + dir.string() + " --intrinsics primesense -q --images --ply -o " + out.string();
   const Result r = RunCli(command);
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("3 frames computed, 0 from cache"), std::string::npos) << r.output;
@@ -423,7 +441,9 @@ TEST(Cli, SimulateWritesAReadableScanAndDemoEvaluatesIt) {
   EXPECT_NE(info.output.find("ground truth 4 poses"), std::string::npos) << info.output;
   const Result bad = RunCli("simulate --scene castle --frames 4 -o " + (dir / "x").string());
   EXPECT_EQ(bad.code, 1);
-  EXPECT_EQ(bad.output, "error: --scene: unknown scene 'castle' (expected two-rooms, apartment, apartment-square, corridor or object)\n");
+  EXPECT_EQ(
+      bad.output,
+      "error: --scene: unknown scene 'castle' (expected two-rooms, apartment, apartment-square, corridor or object)\n");
   const Result demo = RunCli("demo --frames 12 -o " + (dir / "demo").string());
   ASSERT_EQ(demo.code, 0) << demo.output;
   EXPECT_NE(demo.output.find("12 of 12 poses associated"), std::string::npos) << demo.output;
@@ -438,9 +458,9 @@ TEST(Cli, SimulateWritesAReadableScanAndDemoEvaluatesIt) {
   EXPECT_NE(report.find(">Correspondence errors</text>"), std::string::npos);
   // Correspondences name frames, so they need the dataset folder, not a trajectory file.
   const fs::path scan = dir / "demo" / "scan";
-  const Result no_frames = RunCli("evaluate --estimate " + (dir / "demo" / "registration" / "trajectory.txt").string() +
-                                  " --ground-truth " + (scan / "groundtruth.txt").string() + " --correspondences " +
-                                  (scan / "correspondences.txt").string());
+  const Result no_frames =
+      RunCli("evaluate --estimate " + (dir / "demo" / "registration" / "trajectory.txt").string() + " --ground-truth " +
+             (scan / "groundtruth.txt").string() + " --correspondences " + (scan / "correspondences.txt").string());
   EXPECT_EQ(no_frames.code, 1);
   EXPECT_EQ(no_frames.output, "error: " + (scan / "correspondences.txt").string() +
                                   ": correspondences name frames: give --ground-truth as the dataset folder\n");

@@ -85,8 +85,8 @@ int ExpectEveryBoundEnforced(const char* name) {
       options.Fields(breaker);
       if (!breaker.expected()) continue;
       const std::string message = CheckMessage(options);
-      EXPECT_EQ(message.rfind(*breaker.expected(), 0), 0u) << name << " field " << k << ": '" << message
-                                                            << "' should start '" << *breaker.expected() << "'";
+      EXPECT_EQ(message.rfind(*breaker.expected(), 0), 0u)
+          << name << " field " << k << ": '" << message << "' should start '" << *breaker.expected() << "'";
       ++checked;
     }
   }

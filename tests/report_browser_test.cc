@@ -38,10 +38,11 @@ std::string Chromium() {
 }
 
 std::string Headless(const std::string& chromium, const fs::path& page, const fs::path& screenshot, int* code) {
-  return RunCommand(chromium + " --headless --no-sandbox --enable-unsafe-swiftshader --virtual-time-budget=10000 "
+  return RunCommand(chromium +
+                        " --headless --no-sandbox --enable-unsafe-swiftshader --virtual-time-budget=10000 "
                         "--enable-logging=stderr --v=0 --window-size=1100,800 --screenshot=" +
-                 screenshot.string() + " file://" + page.string(),
-             code);
+                        screenshot.string() + " file://" + page.string(),
+                    code);
 }
 
 TEST(ReportInABrowser, LoadsWithoutErrorsAndDrawsThe3dView) {
@@ -65,8 +66,8 @@ TEST(ReportInABrowser, LoadsWithoutErrorsAndDrawsThe3dView) {
     input = (dir / "scan").string() + " --intrinsics primesense --window-frames 4";
   }
   int code = 0;
-  const std::string reg = RunCommand(std::string(F2C_CLI_PATH) + " register " + input + " -q --voxel-size 0.02 -o " +
-                                  (dir / "out").string(), &code);
+  const std::string reg = RunCommand(
+      std::string(F2C_CLI_PATH) + " register " + input + " -q --voxel-size 0.02 -o " + (dir / "out").string(), &code);
   ASSERT_EQ(code, 0) << reg;
   const fs::path report = dir / "out" / "report.html";
   ASSERT_TRUE(fs::exists(report));

@@ -28,7 +28,8 @@ inline const std::filesystem::path& Scratch() {
 
 inline std::filesystem::path WriteInput(const std::string& name, std::string_view bytes) {
   const std::filesystem::path path = Scratch() / name;
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   return path;
 }
 

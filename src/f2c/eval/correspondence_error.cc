@@ -7,7 +7,8 @@
 
 namespace f2c {
 
-std::vector<std::optional<Rigid3d>> PosesAtFrames(const Trajectory& estimate, const std::vector<double>& frame_timestamps,
+std::vector<std::optional<Rigid3d>> PosesAtFrames(const Trajectory& estimate,
+                                                  const std::vector<double>& frame_timestamps,
                                                   double max_time_difference) {
   std::vector<std::optional<Rigid3d>> poses(frame_timestamps.size());
   for (const auto& [frame, pose] :
@@ -59,7 +60,8 @@ std::vector<Correspondence> SelectFrames(const std::vector<Correspondence>& corr
 }
 
 CorrespondenceResult CorrespondenceError(const std::vector<std::optional<Rigid3d>>& world_from_frame,
-                                         const std::vector<Correspondence>& correspondences, const std::string& source) {
+                                         const std::vector<Correspondence>& correspondences,
+                                         const std::string& source) {
   CorrespondenceResult result;
   std::vector<double> distances;
   std::vector<std::pair<int, double>> by_gap;
@@ -67,8 +69,8 @@ CorrespondenceResult CorrespondenceError(const std::vector<std::optional<Rigid3d
   for (const Correspondence& c : correspondences) {
     for (int frame : {c.frame_a, c.frame_b}) {
       if (frame < 0 || frame >= frames) {
-        ThrowInputError(source, fmt::format("a correspondence refers to frame {} but the dataset has {} frames",
-                                            frame, frames));
+        ThrowInputError(
+            source, fmt::format("a correspondence refers to frame {} but the dataset has {} frames", frame, frames));
       }
     }
     const auto& a = world_from_frame[c.frame_a];

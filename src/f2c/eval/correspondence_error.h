@@ -16,7 +16,8 @@ namespace f2c {
 
 // The estimate's pose at each frame time (nearest estimate stamp within
 // max_time_difference, one-to-one as the TUM tools associate), or none.
-std::vector<std::optional<Rigid3d>> PosesAtFrames(const Trajectory& estimate, const std::vector<double>& frame_timestamps,
+std::vector<std::optional<Rigid3d>> PosesAtFrames(const Trajectory& estimate,
+                                                  const std::vector<double>& frame_timestamps,
                                                   double max_time_difference);
 
 // The paper's Fig. 9: errors grouped by frame gap in powers of two: bin k holds gaps in [2^k, 2^(k+1)). Empty bins
@@ -29,9 +30,9 @@ struct GapBin {
 std::vector<GapBin> BinByGap(const std::vector<std::pair<int, double>>& gap_errors);
 
 struct CorrespondenceResult {
-  ErrorStatistics distance;  // metres, over the correspondences whose frames both have poses
+  ErrorStatistics distance;    // metres, over the correspondences whose frames both have poses
   std::vector<GapBin> by_gap;  // the same distances by frame gap |a - b| (the paper's Fig. 9)
-  int skipped = 0;           // correspondences with a frame that has no estimated pose
+  int skipped = 0;             // correspondences with a frame that has no estimated pose
 };
 
 // The correspondences between two frames that a frame selection keeps (IoOptions: frames
@@ -43,7 +44,6 @@ std::vector<Correspondence> SelectFrames(const std::vector<Correspondence>& corr
 
 // InputError naming `source` when a correspondence refers to a frame beyond `poses`.
 CorrespondenceResult CorrespondenceError(const std::vector<std::optional<Rigid3d>>& world_from_frame,
-                                         const std::vector<Correspondence>& correspondences,
-                                         const std::string& source);
+                                         const std::vector<Correspondence>& correspondences, const std::string& source);
 
 }  // namespace f2c

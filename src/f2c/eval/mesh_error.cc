@@ -13,9 +13,7 @@
 
 namespace f2c {
 
-void MeshErrorOptions::Check() const {
-  CheckFields(*this);
-}
+void MeshErrorOptions::Check() const { CheckFields(*this); }
 
 double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                              const Eigen::Vector3d& c) {
@@ -70,9 +68,9 @@ class TriangleGrid {
     double best = fallback;
     for (int t : it->second) {
       const auto& f = truth_.faces[t];
-      best = std::min(best, PointTriangleDistance(p, truth_.positions[f[0]].cast<double>(),
-                                                  truth_.positions[f[1]].cast<double>(),
-                                                  truth_.positions[f[2]].cast<double>()));
+      best = std::min(
+          best, PointTriangleDistance(p, truth_.positions[f[0]].cast<double>(), truth_.positions[f[1]].cast<double>(),
+                                      truth_.positions[f[2]].cast<double>()));
     }
     return best;
   }
@@ -103,9 +101,8 @@ MeshError EvaluateMesh(const PlyPoints& mesh, const PlyPoints& truth, const Mesh
   // Accuracy: every mesh vertex against the true triangles near it.
   const TriangleGrid grid(truth, o.max_distance, o.max_distance);
   std::vector<double> distance(mesh.positions.size());
-  tbb::parallel_for(size_t{0}, mesh.positions.size(), [&](size_t i) {
-    distance[i] = grid.Distance(mesh.positions[i].cast<double>(), o.max_distance);
-  });
+  tbb::parallel_for(size_t{0}, mesh.positions.size(),
+                    [&](size_t i) { distance[i] = grid.Distance(mesh.positions[i].cast<double>(), o.max_distance); });
   if (!distance.empty()) {
     out.far_fraction = static_cast<double>(std::count_if(distance.begin(), distance.end(),
                                                          [&](double d) { return d >= o.max_distance; })) /

@@ -14,11 +14,12 @@ double SegmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const
   return (p - (a + t * (b - a))).norm();
 }
 
-double Reference(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+double Reference(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                 const Eigen::Vector3d& c) {
   const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
   const Eigen::Vector3d q = p - n.dot(p - a) * n;
-  const bool inside = (b - a).cross(q - a).dot(n) >= 0 && (c - b).cross(q - b).dot(n) >= 0 &&
-                      (a - c).cross(q - c).dot(n) >= 0;
+  const bool inside =
+      (b - a).cross(q - a).dot(n) >= 0 && (c - b).cross(q - b).dot(n) >= 0 && (a - c).cross(q - c).dot(n) >= 0;
   if (inside) return std::abs(n.dot(p - a));
   return std::min({SegmentDistance(p, a, b), SegmentDistance(p, b, c), SegmentDistance(p, c, a)});
 }

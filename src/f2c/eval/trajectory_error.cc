@@ -14,9 +14,7 @@
 
 namespace f2c {
 
-void EvaluationOptions::Check() const {
-  CheckFields(*this);
-}
+void EvaluationOptions::Check() const { CheckFields(*this); }
 
 ErrorStatistics ComputeStatistics(std::vector<double> e) {
   ErrorStatistics s;
@@ -39,8 +37,7 @@ ErrorStatistics ComputeStatistics(std::vector<double> e) {
   return s;
 }
 
-AteResult ComputeAte(const Trajectory& estimate, const Trajectory& ground_truth,
-                     const EvaluationOptions& options) {
+AteResult ComputeAte(const Trajectory& estimate, const Trajectory& ground_truth, const EvaluationOptions& options) {
   const auto matches =
       internal::AssociateTimestamps(estimate.timestamps, ground_truth.timestamps, options.max_time_difference);
   if (estimate.size() < 3) {
@@ -77,8 +74,7 @@ size_t ClosestIndex(const std::vector<double>& sorted, double value) {
 
 }  // namespace
 
-RpeResult ComputeRpe(const Trajectory& estimate, const Trajectory& ground_truth, double delta,
-                     bool in_seconds) {
+RpeResult ComputeRpe(const Trajectory& estimate, const Trajectory& ground_truth, double delta, bool in_seconds) {
   RpeResult result;
   const auto& te = estimate.timestamps;
   const auto& tg = ground_truth.timestamps;
@@ -113,7 +109,8 @@ namespace {
 // time order.
 void RotationErrors(const Trajectory& estimate, const Trajectory& ground_truth, const EvaluationOptions& options,
                     std::vector<Eigen::Matrix3d>* d, std::vector<double>* t) {
-  auto matches = internal::AssociateTimestamps(estimate.timestamps, ground_truth.timestamps, options.max_time_difference);
+  auto matches =
+      internal::AssociateTimestamps(estimate.timestamps, ground_truth.timestamps, options.max_time_difference);
   std::stable_sort(matches.begin(), matches.end(), [&](const auto& x, const auto& y) {
     return estimate.timestamps[x.first] < estimate.timestamps[y.first];
   });

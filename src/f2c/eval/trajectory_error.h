@@ -72,7 +72,7 @@ struct AteResult {
   ErrorStatistics translation;  // metres
   Rigid3d gt_from_estimate = Rigid3d::Identity();
   int estimated_poses = 0;
-  std::vector<double> errors;   // per associated pose
+  std::vector<double> errors;  // per associated pose
 };
 
 struct RpeResult {
@@ -99,12 +99,10 @@ struct EvaluationResult {
 };
 
 // InputError (naming "estimate") when fewer than 3 poses associate.
-AteResult ComputeAte(const Trajectory& estimate, const Trajectory& ground_truth,
-                     const EvaluationOptions& options = {});
+AteResult ComputeAte(const Trajectory& estimate, const Trajectory& ground_truth, const EvaluationOptions& options = {});
 
 // `delta` in seconds if `in_seconds`, else in frames of the estimate.
-RpeResult ComputeRpe(const Trajectory& estimate, const Trajectory& ground_truth, double delta,
-                     bool in_seconds);
+RpeResult ComputeRpe(const Trajectory& estimate, const Trajectory& ground_truth, double delta, bool in_seconds);
 
 // Pairs counted: 0 when no two associated poses are min_seconds apart.
 RotationDrift ComputeRotationDrift(const Trajectory& estimate, const Trajectory& ground_truth,

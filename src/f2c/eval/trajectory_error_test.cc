@@ -65,8 +65,9 @@ TEST(ComputeAte, TooFewAssociationsIsAnInputError) {
     ComputeAte(est, gt);
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_STREQ(e.what(), "estimate: only 0 of 5 poses have a ground-truth pose within 0.02 s; "
-                           "time stamps from another sequence?");
+    EXPECT_STREQ(e.what(),
+                 "estimate: only 0 of 5 poses have a ground-truth pose within 0.02 s; "
+                 "time stamps from another sequence?");
   }
 }
 
@@ -188,8 +189,8 @@ TEST(ComputeSmoothedRotationDrift, AveragesAlternatingJitterAway) {
   for (int k = 0; k <= 600; ++k) {
     const Rigid3d truth = At(0.01 * k, 0, 0, k * 0.5 * M_PI / 180);
     Rigid3d jittered = truth;
-    jittered.linear() = Eigen::AngleAxisd((k % 2 == 0 ? 0.3 : -0.3) * M_PI / 180, Eigen::Vector3d::UnitX()) *
-                        truth.linear();
+    jittered.linear() =
+        Eigen::AngleAxisd((k % 2 == 0 ? 0.3 : -0.3) * M_PI / 180, Eigen::Vector3d::UnitX()) * truth.linear();
     gt.Add(k / 30.0, truth);
     est.Add(k / 30.0, motion * jittered);
   }

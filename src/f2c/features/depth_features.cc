@@ -15,22 +15,27 @@ namespace f2c {
 
 const char* FeatureTypeName(FeatureType type) {
   switch (type) {
-    case FeatureType::kPlane: return "plane";
-    case FeatureType::kSilhouette: return "silhouette";
-    case FeatureType::kShadow: return "shadow";
-    case FeatureType::kBorder: return "border";
-    case FeatureType::kRidge: return "ridge";
-    case FeatureType::kValley: return "valley";
+    case FeatureType::kPlane:
+      return "plane";
+    case FeatureType::kSilhouette:
+      return "silhouette";
+    case FeatureType::kShadow:
+      return "shadow";
+    case FeatureType::kBorder:
+      return "border";
+    case FeatureType::kRidge:
+      return "ridge";
+    case FeatureType::kValley:
+      return "valley";
   }
   return "unknown";
 }
 
-void FeatureOptions::Check() const {
-  CheckFields(*this);
-}
+void FeatureOptions::Check() const { CheckFields(*this); }
 
 int FrameFeatures::Count(FeatureType type) const {
-  return static_cast<int>(std::count_if(features.begin(), features.end(), [&](const Feature& f) { return f.type == type; }));
+  return static_cast<int>(
+      std::count_if(features.begin(), features.end(), [&](const Feature& f) { return f.type == type; }));
 }
 
 namespace {
@@ -53,7 +58,8 @@ struct Candidate {
 std::vector<Candidate> SelectSpaced(const std::vector<Candidate>& candidates, double spacing) {
   if (spacing <= 0) {
     std::vector<Candidate> all = candidates;
-    std::stable_sort(all.begin(), all.end(), [](const Candidate& a, const Candidate& b) { return a.salience > b.salience; });
+    std::stable_sort(all.begin(), all.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.salience > b.salience; });
     return all;
   }
   auto voxel = [&](const Vec3f& p) {
@@ -162,8 +168,8 @@ FrameFeatures ExtractFrameFeatures(const cv::Mat& depth, const CameraIntrinsics&
 
   // Contours: a jump between a cell and the next valid cell to its right or below (across
   // at most edge_max_gap invalid cells).
-  std::vector<float> jump_at(n, 0.0f);      // largest jump seen at a cell
-  std::vector<int8_t> contour(n, 0);         // +1 silhouette (near side), -1 shadow (far side)
+  std::vector<float> jump_at(n, 0.0f);  // largest jump seen at a cell
+  std::vector<int8_t> contour(n, 0);    // +1 silhouette (near side), -1 shadow (far side)
   std::vector<Eigen::Vector2i> jump_dir(n, Eigen::Vector2i::Zero());
   for (int y = 0; y < g.height; ++y) {
     for (int x = 0; x < g.width; ++x) {
@@ -199,7 +205,8 @@ FrameFeatures ExtractFrameFeatures(const cv::Mat& depth, const CameraIntrinsics&
     for (int y = 0; y < g.height; ++y) {
       for (int x = 0; x < g.width; ++x) {
         const int i = g.Index(x, y);
-        if ((x == 0 || y == 0 || x == g.width - 1 || y == g.height - 1) && g.Valid(i) && contour[i] == 0) is_border[i] = 1;
+        if ((x == 0 || y == 0 || x == g.width - 1 || y == g.height - 1) && g.Valid(i) && contour[i] == 0)
+          is_border[i] = 1;
       }
     }
   }

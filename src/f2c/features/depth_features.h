@@ -34,20 +34,20 @@ struct Feature {
   // In [0, 1]: planes their cell's Flatness() (proxies.h); silhouette and shadow
   // min(1, jump / 0.5 m); border 1; creases sin(angle between the two planes).
   float salience = 0;
-  int32_t proxy = -1;                                   // proxy in this frame (creases: one of the two), -1 none
-  Eigen::Vector2f pixel = Eigen::Vector2f::Zero();      // where it was found in the image
+  int32_t proxy = -1;                               // proxy in this frame (creases: one of the two), -1 none
+  Eigen::Vector2f pixel = Eigen::Vector2f::Zero();  // where it was found in the image
 };
 
 struct FeatureOptions {
   PointGridOptions grid;
   ProxyOptions proxies;
-  double min_spacing = 0.05;             // metres between features of the same type (DESIGN.md)
-  double edge_jump_fraction = 0.1;       // depth jump > this fraction of the near depth...
-  double edge_min_jump = 0.1;            // ...and >= this many metres (DESIGN.md)
-  int edge_max_gap = 2;                  // cells of missing depth a jump may span (sensor shadows)
-  double crease_angle_deg = 45;          // ridges/valleys where planes meet at more than this
-  int crease_max_gap = 2;                // unlabelled cells between two proxies at a crease
-  int edge_direction_radius = 3;         // cells: neighbourhood for contour directions
+  double min_spacing = 0.05;        // metres between features of the same type (DESIGN.md)
+  double edge_jump_fraction = 0.1;  // depth jump > this fraction of the near depth...
+  double edge_min_jump = 0.1;       // ...and >= this many metres (DESIGN.md)
+  int edge_max_gap = 2;             // cells of missing depth a jump may span (sensor shadows)
+  double crease_angle_deg = 45;     // ridges/valleys where planes meet at more than this
+  int crease_max_gap = 2;           // unlabelled cells between two proxies at a crease
+  int edge_direction_radius = 3;    // cells: neighbourhood for contour directions
   bool border_features = true;
 
   template <class V>
@@ -56,10 +56,12 @@ struct FeatureOptions {
     F2C_NESTED(v, proxies);
     v.Group("Features (paper 4.1; DESIGN.md section 2)");
     F2C_FIELD(v, min_spacing, "--min-spacing", AtLeast(0), "features of one type at least this far apart (m)");
-    F2C_FIELD(v, edge_jump_fraction, "--edge-jump-fraction", Positive(), "contours: depth jump above this fraction of depth...");
+    F2C_FIELD(v, edge_jump_fraction, "--edge-jump-fraction", Positive(),
+              "contours: depth jump above this fraction of depth...");
     F2C_FIELD(v, edge_min_jump, "--edge-min-jump", AtLeast(0), "...and at least this many metres");
     F2C_FIELD(v, edge_max_gap, "", AtLeast(0), "cells of missing depth a jump may span");
-    v.Field(crease_angle_deg, "crease_angle_deg", "--crease-angle", Bounds{.min = 0, .max = 180, .min_open = true, .max_open = true},
+    v.Field(crease_angle_deg, "crease_angle_deg", "--crease-angle",
+            Bounds{.min = 0, .max = 180, .min_open = true, .max_open = true},
             "ridges/valleys where proxies meet at more than this (deg)");
     F2C_FIELD(v, crease_max_gap, "", AtLeast(0), "unlabelled cells between two proxies at a crease");
     F2C_FIELD(v, edge_direction_radius, "", AtLeast(1), "cells around a contour point for its direction");
@@ -70,7 +72,7 @@ struct FeatureOptions {
 
 struct FrameFeatures {
   std::vector<PlanarProxy> proxies;
-  std::vector<Feature> features;   // grouped by type, in FeatureType order
+  std::vector<Feature> features;  // grouped by type, in FeatureType order
   // Why a frame has no or only some kinds of features, empty otherwise: "no valid depth",
   // "no planar region", "no depth edges or creases".
   std::string note;

@@ -187,8 +187,8 @@ TEST(ExtractFrameFeatures, RidgesOnBoxEdgesValleysWhereSurfacesMeetInside) {
     if (feature.type != FeatureType::kRidge && feature.type != FeatureType::kValley) continue;
     const bool ridge = feature.type == FeatureType::kRidge;
     ++(ridge ? ridges : valleys);
-    EXPECT_TRUE(on_an_edge(ridge ? convex : concave, feature)) << FeatureTypeName(feature.type) << " at "
-                                                               << (pose * feature.position.cast<double>()).transpose();
+    EXPECT_TRUE(on_an_edge(ridge ? convex : concave, feature))
+        << FeatureTypeName(feature.type) << " at " << (pose * feature.position.cast<double>()).transpose();
   }
   EXPECT_GE(ridges, 10);
   EXPECT_GE(valleys, 10);
@@ -233,7 +233,8 @@ TEST(ExtractFrameFeatures, BadFramesGiveEmptyOrPartialResultsWithAReason) {
   const FrameFeatures wall = ExtractFrameFeatures(cv::Mat(480, 640, CV_32F, cv::Scalar(2.0f)), k, FeatureOptions());
   EXPECT_EQ(wall.proxies.size(), 1u);
   EXPECT_GT(wall.Count(FeatureType::kPlane), 0);
-  EXPECT_EQ(wall.Count(FeatureType::kSilhouette) + wall.Count(FeatureType::kRidge) + wall.Count(FeatureType::kValley), 0);
+  EXPECT_EQ(wall.Count(FeatureType::kSilhouette) + wall.Count(FeatureType::kRidge) + wall.Count(FeatureType::kValley),
+            0);
   EXPECT_EQ(wall.note, "no depth edges or creases");
   // Depth at isolated sample pixels 40 px apart: points (the ones on the image border are
   // border features), but no normals, so nothing planar.

@@ -135,7 +135,8 @@ FrameFeatures GetFrame(Reader& r, const std::filesystem::path& path) {
   f.features.resize(features);
   for (Feature& x : f.features) {
     const auto type = r.Get<uint8_t>();
-    if (type >= kFeatureTypeCount) ThrowInputError(path, fmt::format("feature cache has an unknown feature type {}", type));
+    if (type >= kFeatureTypeCount)
+      ThrowInputError(path, fmt::format("feature cache has an unknown feature type {}", type));
     x.type = static_cast<FeatureType>(type);
     r.GetFloats(x.position.data(), 3);
     r.GetFloats(x.direction.data(), 3);
@@ -240,7 +241,8 @@ class FeatureExtraction::CacheWriter {
 
  private:
   void Write(const std::string& bytes) {
-    if (std::fwrite(bytes.data(), 1, bytes.size(), file_) != bytes.size()) ThrowInputError(path_, "cannot write feature cache");
+    if (std::fwrite(bytes.data(), 1, bytes.size(), file_) != bytes.size())
+      ThrowInputError(path_, "cannot write feature cache");
   }
   std::filesystem::path path_;
   std::string tmp_;
@@ -311,7 +313,8 @@ void FeatureExtraction::Deliver(int frame, FrameFeatures&& f) {
 void FeatureExtraction::ReadCache() {
   const int n = static_cast<int>(seq_.frames.size());
   Timer timer;
-  tbb::parallel_for(0, n, [&](int i) { keys_[i] = HashFile(seq_.frames[i].depth_path) ^ (context_ * 0x9E3779B97F4A7C15ULL); });
+  tbb::parallel_for(
+      0, n, [&](int i) { keys_[i] = HashFile(seq_.frames[i].depth_path) ^ (context_ * 0x9E3779B97F4A7C15ULL); });
   timings_.hashing = timer.Seconds();
   std::unordered_map<uint64_t, std::vector<int>> frames_of;  // frames with identical bytes share a key
   for (int i = 0; i < n; ++i) frames_of[keys_[i]].push_back(i);
@@ -411,7 +414,7 @@ FeatureSet FeatureExtraction::Finish(FeatureTimings* timings) {
   // frame), naming how many frames and the first of them.
   // A warning where frames gave nothing at all, information where they gave some kinds.
   std::map<std::string, std::pair<int, int>> notes;  // note -> (frames, first frame)
-  std::map<std::string, bool> empty;                  // note -> some frame with it has no features
+  std::map<std::string, bool> empty;                 // note -> some frame with it has no features
   for (int i = 0; i < n; ++i) {
     if (state_[i] != kComputed || notes_[i].empty()) continue;
     auto [it, inserted] = notes.try_emplace(notes_[i], 0, i);

@@ -75,7 +75,7 @@ class FeatureExtraction {
 
  private:
   enum State : char { kMissing, kCached, kComputed };
-  void ReadCache();  // frame keys, and the frames the cache holds
+  void ReadCache();                                   // frame keys, and the frames the cache holds
   void Deliver(int frame, FrameFeatures&& features);  // tally, cache, sink or keep
   class CacheWriter;
   const RgbdSequence& seq_;
@@ -87,9 +87,9 @@ class FeatureExtraction {
   uint64_t context_ = 0;
   FeatureTimings timings_;
   std::atomic<int64_t> extract_ns_{0};
-  std::unique_ptr<CacheWriter> writer_;      // the new cache, streamed (when frames are missing)
-  std::vector<std::string> notes_;           // per frame
-  std::vector<char> empty_;                  // per frame: no features at all
+  std::unique_ptr<CacheWriter> writer_;                  // the new cache, streamed (when frames are missing)
+  std::vector<std::string> notes_;                       // per frame
+  std::vector<char> empty_;                              // per frame: no features at all
   std::atomic<long> tally_[kFeatureTypeCount + 1] = {};  // per type, then proxies
   Timer wall_;
   double setup_s_ = 0;

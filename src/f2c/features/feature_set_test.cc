@@ -87,7 +87,8 @@ TEST(FeatureCache, RoundTripsEveryField) {
 TEST(FeatureCache, BadFilesAreClearErrors) {
   const fs::path dir = testing::FreshTempDir("feature_cache_bad");
   const CameraIntrinsics k = testing::TestIntrinsics();
-  WriteFeatureCache(dir / "good.f2cf", 1, {{1, ExtractFrameFeatures(testing::Render({}, k, Poses(1)[0]).depth, k, {})}});
+  WriteFeatureCache(dir / "good.f2cf", 1,
+                    {{1, ExtractFrameFeatures(testing::Render({}, k, Poses(1)[0]).depth, k, {})}});
   const std::string bytes = ReadFileToString(dir / "good.f2cf");
   WriteFileAtomic(dir / "short.f2cf", bytes.substr(0, bytes.size() - 7));
   WriteFileAtomic(dir / "other.f2cf", "P6\n640 480\n255\n");

@@ -40,8 +40,8 @@ class SampledBilateral {
     spatial_.resize(side * side);
     for (int dv = -radius_; dv <= radius_; ++dv) {
       for (int du = -radius_; du <= radius_; ++du) {
-        spatial_[(dv + radius_) * side + du + radius_] =
-            static_cast<float>(std::exp(-(du * du + dv * dv) / (2 * o.bilateral_sigma_pixels * o.bilateral_sigma_pixels)));
+        spatial_[(dv + radius_) * side + du + radius_] = static_cast<float>(
+            std::exp(-(du * du + dv * dv) / (2 * o.bilateral_sigma_pixels * o.bilateral_sigma_pixels)));
       }
     }
     range_.resize(kRangeBins + 1);

@@ -14,8 +14,8 @@
 namespace f2c {
 
 struct PointGridOptions {
-  int step = 4;             // pixels per grid cell (1 = every pixel)
-  double min_depth = 0.3;   // metres; outside the range a cell is invalid (the authors cap at 5 m)
+  int step = 4;            // pixels per grid cell (1 = every pixel)
+  double min_depth = 0.3;  // metres; outside the range a cell is invalid (the authors cap at 5 m)
   double max_depth = 5.0;
   // Optional edge-preserving smoothing of the depth image before sampling (the authors filter
   // SUN3D's depth this way). Off by default; sigma_depth in metres, sigma_pixels in pixels.
@@ -38,7 +38,8 @@ struct PointGridOptions {
     F2C_FIELD(v, bilateral, "--bilateral", {}, "bilateral-filter depth first (noisy sensors, e.g. SUN3D)");
     F2C_FIELD(v, bilateral_sigma_depth, "", Positive(), "bilateral filter: depth sigma (m)");
     F2C_FIELD(v, bilateral_sigma_pixels, "", Positive(), "bilateral filter: spatial sigma (pixels)");
-    F2C_FIELD(v, normal_radius_pixels, "--normal-radius-pixels", AtLeast(1), "normals: neighbours within this many pixels");
+    F2C_FIELD(v, normal_radius_pixels, "--normal-radius-pixels", AtLeast(1),
+              "normals: neighbours within this many pixels");
     F2C_FIELD(v, normal_radius, "--normal-radius", Positive(), "normals: neighbours within this distance (m)");
     F2C_FIELD(v, min_normal_points, "", AtLeast(3), "normals: fewest neighbours");
   }

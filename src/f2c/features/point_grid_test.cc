@@ -67,11 +67,11 @@ TEST(BuildPointGrid, CellsAtACreaseAreCurvedAndCellsAwayFromItAreNot) {
 TEST(BuildPointGrid, MissingOrOutOfRangeDepthIsInvalid) {
   const CameraIntrinsics k = testing::TestIntrinsics();
   cv::Mat depth(k.height, k.width, CV_32F, cv::Scalar(2.0f));
-  depth.at<float>(2, 2) = std::numeric_limits<float>::quiet_NaN();    // cell (0, 0)
-  depth.at<float>(2, 6) = std::numeric_limits<float>::infinity();     // cell (1, 0)
-  depth.at<float>(2, 10) = 7.0f;                                      // beyond 5 m: cell (2, 0)
-  depth.at<float>(2, 14) = 0.1f;                                      // nearer than 0.3 m: cell (3, 0)
-  depth.at<float>(2, 18) = -1.0f;                                     // cell (4, 0)
+  depth.at<float>(2, 2) = std::numeric_limits<float>::quiet_NaN();  // cell (0, 0)
+  depth.at<float>(2, 6) = std::numeric_limits<float>::infinity();   // cell (1, 0)
+  depth.at<float>(2, 10) = 7.0f;                                    // beyond 5 m: cell (2, 0)
+  depth.at<float>(2, 14) = 0.1f;                                    // nearer than 0.3 m: cell (3, 0)
+  depth.at<float>(2, 18) = -1.0f;                                   // cell (4, 0)
   const PointGrid g = BuildPointGrid(depth, k, PointGridOptions());
   for (int x = 0; x < 5; ++x) EXPECT_FALSE(g.Valid(g.Index(x, 0))) << x;
   EXPECT_TRUE(g.Valid(g.Index(5, 0)));

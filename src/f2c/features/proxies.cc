@@ -10,9 +10,7 @@
 
 namespace f2c {
 
-void ProxyOptions::Check() const {
-  CheckFields(*this);
-}
+void ProxyOptions::Check() const { CheckFields(*this); }
 
 namespace {
 

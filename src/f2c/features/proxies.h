@@ -23,11 +23,11 @@
 namespace f2c {
 
 struct ProxyOptions {
-  int min_points = 10;                         // cells (DESIGN.md: >= 10 points per cluster)
-  double max_distance = 0.1;                   // metres (DESIGN.md)
-  double max_normal_angle_deg = 45;             // DESIGN.md
-  double max_rms_a = 0.005;                    // metres
-  double max_rms_b = 0.004;                    // metres per square metre of depth
+  int min_points = 10;               // cells (DESIGN.md: >= 10 points per cluster)
+  double max_distance = 0.1;         // metres (DESIGN.md)
+  double max_normal_angle_deg = 45;  // DESIGN.md
+  double max_rms_a = 0.005;          // metres
+  double max_rms_b = 0.004;          // metres per square metre of depth
   // Only flat cells join clusters; otherwise the blended normals of cells on creases and
   // contours grow strips along them. A cell is flat when its curvature is at most
   // max_curvature, or when its fit residual is explained by the sensor's depth noise:
@@ -56,7 +56,8 @@ struct ProxyOptions {
   void Fields(V& v) {
     v.Group("Features (paper 4.1; DESIGN.md section 2)");
     F2C_FIELD(v, min_points, "--proxy-min-points", AtLeast(3), "smallest planar proxy (grid cells)");
-    F2C_FIELD(v, max_distance, "--proxy-max-distance", Positive(), "clusters merge when their planes are this close (m)");
+    F2C_FIELD(v, max_distance, "--proxy-max-distance", Positive(),
+              "clusters merge when their planes are this close (m)");
     v.Field(max_normal_angle_deg, "max_normal_angle_deg", "--proxy-max-angle",
             Bounds{.min = 0, .max = 90, .min_open = true, .max_open = true}, "...and their normals this close (deg)");
     F2C_FIELD(v, max_rms_a, "", Positive(), "a plane's largest RMS residual a + b z^2: a (m)");
@@ -70,7 +71,8 @@ struct ProxyOptions {
     F2C_FIELD(v, min_trim_sigma, "", Positive(), "trimming: smallest sigma (m)");
     F2C_FIELD(v, trim_iterations, "", AtLeast(0), "trimming rounds");
     F2C_FIELD(v, min_width, "", AtLeast(0), "narrowest proxy (m)");
-    F2C_FIELD(v, bearing_noise, "", Positive(), "a proxy's noise estimate: a point's noise across its ray (radians x range)");
+    F2C_FIELD(v, bearing_noise, "", Positive(),
+              "a proxy's noise estimate: a point's noise across its ray (radians x range)");
   }
   void Check() const;  // InputError naming the field when out of range
 };

@@ -18,7 +18,7 @@ constexpr double kDeg = M_PI / 180.0;
 // narrow across the tilt and the least-squares bias is large.
 struct ObliqueWall {
   Eigen::Vector3d normal = Eigen::Vector3d(std::sin(60 * kDeg), 0, -std::cos(60 * kDeg));  // towards the camera
-  double offset = -4 * std::cos(60 * kDeg);                                                 // normal . x
+  double offset = -4 * std::cos(60 * kDeg);                                                // normal . x
 };
 
 // Cells on the wall, their depth moved along the ray by Gaussian noise of sigma(z) (the

@@ -23,7 +23,8 @@ TEST(RealData, RedkitchenProxiesReappearWhereTheTrueMotionPutsThem) {
   run.quiet = true;
   const FeatureSet set = ExtractFeatures(seq, FeatureOptions(), run);
   std::map<double, Rigid3d> gt;
-  for (size_t i = 0; i < seq.ground_truth->size(); ++i) gt[seq.ground_truth->timestamps[i]] = seq.ground_truth->world_from_camera[i];
+  for (size_t i = 0; i < seq.ground_truth->size(); ++i)
+    gt[seq.ground_truth->timestamps[i]] = seq.ground_truth->world_from_camera[i];
 
   int large = 0, found = 0;
   for (size_t i = 0; i + 1 < seq.frames.size(); ++i) {
@@ -31,7 +32,8 @@ TEST(RealData, RedkitchenProxiesReappearWhereTheTrueMotionPutsThem) {
     const FrameFeatures& b = set.frames[i + 1];
     EXPECT_GE(a.proxies.size(), 3u) << i;
     EXPECT_GT(a.Count(FeatureType::kPlane), 100) << i;
-    EXPECT_GT(a.Count(FeatureType::kSilhouette) + a.Count(FeatureType::kRidge) + a.Count(FeatureType::kValley), 10) << i;
+    EXPECT_GT(a.Count(FeatureType::kSilhouette) + a.Count(FeatureType::kRidge) + a.Count(FeatureType::kValley), 10)
+        << i;
     const Rigid3d b_from_a = gt.at(seq.frames[i + 1].timestamp).inverse() * gt.at(seq.frames[i].timestamp);
     for (const PlanarProxy& p : a.proxies) {
       if (p.inliers < 200) continue;

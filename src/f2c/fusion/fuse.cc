@@ -17,9 +17,7 @@
 
 namespace f2c {
 
-void FusionOptions::Check() const {
-  CheckFields(*this);
-}
+void FusionOptions::Check() const { CheckFields(*this); }
 
 std::vector<std::optional<Rigid3d>> PosesForFrames(const RgbdSequence& seq, const Trajectory& t,
                                                    double max_time_difference, const std::filesystem::path& file) {
@@ -40,8 +38,8 @@ std::vector<std::optional<Rigid3d>> PosesForFrames(const RgbdSequence& seq, cons
     std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return t.timestamps[a] < t.timestamps[b]; });
     for (size_t k = 0; k < n; ++k) {
       const double time = seq.frames[k].timestamp;
-      const auto it = std::lower_bound(order.begin(), order.end(), time,
-                                       [&](size_t i, double x) { return t.timestamps[i] < x; });
+      const auto it =
+          std::lower_bound(order.begin(), order.end(), time, [&](size_t i, double x) { return t.timestamps[i] < x; });
       double best = max_time_difference;
       for (auto c : {it, it == order.begin() ? it : it - 1}) {
         if (c == order.end()) continue;
@@ -85,30 +83,25 @@ FusionResult FuseTsdf(const RgbdSequence& seq, const std::vector<std::optional<R
   Timer integrate_wall;
   // Frames decode in parallel ahead of the integration, which takes them in order (each
   // integration is itself parallel over blocks), so the volume is the same for any thread count.
-  tbb::parallel_pipeline(
-      2 * tbb::this_task_arena::max_concurrency() + 2,
-      tbb::make_filter<void, int>(tbb::filter_mode::serial_in_order,
-                                  [&](tbb::flow_control& fc) {
-                                    if (next >= frames.size()) {
-                                      fc.stop();
-                                      return 0;
-                                    }
-                                    return frames[next++];
-                                  }) &
-          tbb::make_filter<int, Decoded>(tbb::filter_mode::parallel,
-                                         [&](int frame) {
-                                           Timer timer;
-                                           Decoded d;
-                                           d.frame = frame;
-                                           d.depth = LoadDepthMeters(seq, seq.frames[frame]);
-                                           d.color = LoadColor(seq, seq.frames[frame], d.depth.size());
-                                           decode_ns += static_cast<int64_t>(timer.Seconds() * 1e9);
-                                           return d;
-                                         }) &
-          tbb::make_filter<Decoded, void>(tbb::filter_mode::serial_in_order, [&](Decoded d) {
-            volume.Integrate(d.depth, d.color, k, *poses[d.frame]);
-            progress.Advance();
-          }));
+  tbb::parallel_pipeline(2 * tbb::this_task_arena::max_concurrency() + 2,
+                         tbb::make_filter<void, int>(tbb::filter_mode::serial_in_order, [&](tbb::flow_control& fc) {
+                           if (next >= frames.size()) {
+                             fc.stop();
+                             return 0;
+                           }
+                           return frames[next++];
+                         }) & tbb::make_filter<int, Decoded>(tbb::filter_mode::parallel, [&](int frame) {
+                           Timer timer;
+                           Decoded d;
+                           d.frame = frame;
+                           d.depth = LoadDepthMeters(seq, seq.frames[frame]);
+                           d.color = LoadColor(seq, seq.frames[frame], d.depth.size());
+                           decode_ns += static_cast<int64_t>(timer.Seconds() * 1e9);
+                           return d;
+                         }) & tbb::make_filter<Decoded, void>(tbb::filter_mode::serial_in_order, [&](Decoded d) {
+                           volume.Integrate(d.depth, d.color, k, *poses[d.frame]);
+                           progress.Advance();
+                         }));
   progress.Finish();
   t.integrate = integrate_wall.Seconds();
   t.decode_cpu = decode_ns * 1e-9;

@@ -32,10 +32,10 @@ struct FusionOptions {
 struct FusionTimings {
   int frames_fused = 0;
   int frames_without_pose = 0;
-  double decode_cpu = 0;   // seconds of CPU decoding colour and depth (in parallel with the rest)
-  double integrate = 0;    // seconds of wall time integrating
-  double mesh = 0;         // seconds of wall time extracting the mesh
-  double wall = 0;         // the whole stage
+  double decode_cpu = 0;  // seconds of CPU decoding colour and depth (in parallel with the rest)
+  double integrate = 0;   // seconds of wall time integrating
+  double mesh = 0;        // seconds of wall time extracting the mesh
+  double wall = 0;        // the whole stage
   int blocks = 0;
   size_t volume_bytes = 0;
 };

@@ -178,7 +178,8 @@ PlyPoints ExtractMesh(const TsdfVolume& volume, const MeshOptions& options) {
             vertex.position = v0.cast<float>() * voxel_size;
             vertex.position[axis] += s * voxel_size;
             for (int ch = 0; ch < 3; ++ch) {
-              vertex.rgb[ch] = static_cast<uint8_t>(std::lround((1 - s) * corner[c0]->rgb[ch] + s * corner[c1]->rgb[ch]));
+              vertex.rgb[ch] =
+                  static_cast<uint8_t>(std::lround((1 - s) * corner[c0]->rgb[ch] + s * corner[c1]->rgb[ch]));
             }
             return vertex;
           };
@@ -236,8 +237,8 @@ PlyPoints ExtractMesh(const TsdfVolume& volume, const MeshOptions& options) {
   mesh.normals.assign(vertices.size(), Eigen::Vector3f::Zero());
   for (const std::array<uint64_t, 3>& t : triangles) {
     const std::array<int32_t, 3> face{index_of(t[0]), index_of(t[1]), index_of(t[2])};
-    const Eigen::Vector3f area = (mesh.positions[face[1]] - mesh.positions[face[0]])
-                                     .cross(mesh.positions[face[2]] - mesh.positions[face[0]]);
+    const Eigen::Vector3f area =
+        (mesh.positions[face[1]] - mesh.positions[face[0]]).cross(mesh.positions[face[2]] - mesh.positions[face[0]]);
     if (face[0] == face[1] || face[1] == face[2] || face[0] == face[2] || !(area.squaredNorm() > 0)) continue;
     mesh.faces.push_back(face);
     for (int32_t i : face) mesh.normals[i] += area;  // area-weighted (|area| is twice the area)

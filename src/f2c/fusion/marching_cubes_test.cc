@@ -153,8 +153,9 @@ TEST(ExtractMesh, UnobservedCornersGiveNoSurface) {
   for (int b = 0; b < volume.BlockCount(); ++b) {
     if (volume.BlockCoords(b).x() < 0) continue;
     for (int i = 0; i < kTsdfBlockVoxels; ++i) {
-      volume.At(volume.BlockCoords(b) * kTsdfBlockSide +
-                Eigen::Vector3i(i % kTsdfBlockSide, i / kTsdfBlockSide % kTsdfBlockSide, i / 64))
+      volume
+          .At(volume.BlockCoords(b) * kTsdfBlockSide +
+              Eigen::Vector3i(i % kTsdfBlockSide, i / kTsdfBlockSide % kTsdfBlockSide, i / 64))
           .weight = 0;
     }
   }

@@ -16,7 +16,8 @@ namespace f2c {
 void TsdfOptions::Check() const {
   CheckFields(*this);
   if (!(max_depth > min_depth)) {
-    ThrowInputError("--fuse-max-depth", fmt::format("must exceed the nearest depth ({}), got {}", min_depth, max_depth));
+    ThrowInputError("--fuse-max-depth",
+                    fmt::format("must exceed the nearest depth ({}), got {}", min_depth, max_depth));
   }
 }
 

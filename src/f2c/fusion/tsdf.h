@@ -25,10 +25,10 @@
 namespace f2c {
 
 struct TsdfOptions {
-  double voxel_size = 0.01;    // metres (--voxel-size)
-  int truncation_voxels = 4;   // the signed distance is truncated at this many voxels
-  double min_depth = 0.3;      // metres; depth outside [min_depth, max_depth] is ignored
-  double max_depth = 4.0;      // (--fuse-max-depth: far depth is noisy and blurs the surface)
+  double voxel_size = 0.01;   // metres (--voxel-size)
+  int truncation_voxels = 4;  // the signed distance is truncated at this many voxels
+  double min_depth = 0.3;     // metres; depth outside [min_depth, max_depth] is ignored
+  double max_depth = 4.0;     // (--fuse-max-depth: far depth is noisy and blurs the surface)
 
   double Truncation() const { return voxel_size * truncation_voxels; }
 
@@ -36,7 +36,8 @@ struct TsdfOptions {
   void Fields(V& v) {
     v.Group("Mesh (TSDF fusion, marching cubes; docs/fusion.md)");
     F2C_FIELD(v, voxel_size, "--voxel-size", Between(0.001, 0.5), "TSDF voxel edge (m)");
-    F2C_FIELD(v, truncation_voxels, "--truncation-voxels", Between(1, 64), "signed distances are truncated at this many voxels");
+    F2C_FIELD(v, truncation_voxels, "--truncation-voxels", Between(1, 64),
+              "signed distances are truncated at this many voxels");
     F2C_FIELD(v, min_depth, "", AtLeast(0), "depth nearer than this (m) is not fused");
     F2C_FIELD(v, max_depth, "--fuse-max-depth", Positive(), "depth beyond this (m) is not fused");
   }
@@ -44,8 +45,8 @@ struct TsdfOptions {
 };
 
 struct TsdfVoxel {
-  float tsdf = 1.0f;   // signed distance / truncation, in [-1, 1]
-  float weight = 0.0f; // 0: never observed
+  float tsdf = 1.0f;    // signed distance / truncation, in [-1, 1]
+  float weight = 0.0f;  // 0: never observed
   std::array<uint8_t, 3> rgb{0, 0, 0};
   // Observations averaged into rgb: only those within the truncation band (free space has no
   // colour), and at most 255, after which the colour follows the newest frames a little more.

@@ -126,7 +126,8 @@ TEST(TsdfOptions, CheckNamesTheOption) {
   EXPECT_EQ(testing::InputErrorMessage([&] { o.Check(); }), "--voxel-size: must be in [0.001, 0.5], got 0");
   o = {};
   o.max_depth = 0.1;
-  EXPECT_EQ(testing::InputErrorMessage([&] { o.Check(); }), "--fuse-max-depth: must exceed the nearest depth (0.3), got 0.1");
+  EXPECT_EQ(testing::InputErrorMessage([&] { o.Check(); }),
+            "--fuse-max-depth: must exceed the nearest depth (0.3), got 0.1");
 }
 
 }  // namespace

@@ -37,11 +37,10 @@ void CameraIntrinsics::Validate(const std::string& source) const {
   if (!(std::isfinite(fx) && std::isfinite(fy) && fx > 0 && fy > 0)) {
     ThrowInputError(source, fmt::format("focal length must be positive (fx={}, fy={})", fx, fy));
   }
-  if (!(std::isfinite(cx) && std::isfinite(cy) && cx >= 0 && cy >= 0 &&
-        (!size_known || (cx < width && cy < height)))) {
+  if (!(std::isfinite(cx) && std::isfinite(cy) && cx >= 0 && cy >= 0 && (!size_known || (cx < width && cy < height)))) {
     if (!size_known) ThrowInputError(source, fmt::format("principal point ({}, {}) must be >= 0", cx, cy));
-    ThrowInputError(source, fmt::format("principal point ({}, {}) lies outside the {}x{} image",
-                                        cx, cy, width, height));
+    ThrowInputError(source,
+                    fmt::format("principal point ({}, {}) lies outside the {}x{} image", cx, cy, width, height));
   }
   for (double d : distortion) {
     if (!std::isfinite(d)) ThrowInputError(source, fmt::format("distortion coefficient {} is not finite", d));
@@ -69,8 +68,8 @@ CameraIntrinsics ParseIntrinsics(const std::string& text, const std::string& sou
     begin = end + 1;
   }
   if (values.size() != 4 && values.size() != 8 && values.size() != 9) {
-    ThrowInputError(source, fmt::format("expected 4 numbers fx,fy,cx,cy, 8 with k1,k2,p1,p2 or 9 with k3, got {}",
-                                        values.size()));
+    ThrowInputError(
+        source, fmt::format("expected 4 numbers fx,fy,cx,cy, 8 with k1,k2,p1,p2 or 9 with k3, got {}", values.size()));
   }
   CameraIntrinsics intrinsics{values[0], values[1], values[2], values[3], 640, 480, false};
   for (size_t i = 4; i < values.size(); ++i) intrinsics.distortion[i - 4] = values[i];

@@ -38,13 +38,9 @@ struct CameraIntrinsics {
 
   // Point in camera coordinates (metres; x right, y down, z forward) of pixel (u, v) at
   // depth z.
-  Eigen::Vector3d Unproject(double u, double v, double z) const {
-    return {(u - cx) * z / fx, (v - cy) * z / fy, z};
-  }
+  Eigen::Vector3d Unproject(double u, double v, double z) const { return {(u - cx) * z / fx, (v - cy) * z / fy, z}; }
   // Pixel of a point in camera coordinates (z > 0).
-  Eigen::Vector2d Project(const Eigen::Vector3d& p) const {
-    return {fx * p.x() / p.z() + cx, fy * p.y() / p.z() + cy};
-  }
+  Eigen::Vector2d Project(const Eigen::Vector3d& p) const { return {fx * p.x() / p.z() + cx, fy * p.y() / p.z() + cy}; }
   // InputError("<source>: ...") unless focal lengths are positive and finite, the principal
   // point lies inside the image (at least non-negative while the size is unknown) and the
   // distortion coefficients are finite.

@@ -24,8 +24,8 @@ double RotationAngle(const Eigen::Matrix3d& rotation) {
   return std::atan2(0.5 * v.norm(), 0.5 * (rotation.trace() - 1.0));
 }
 
-Rigid3d RigidFromMatrixOrThrow(const Eigen::Matrix4d& matrix, const std::filesystem::path& path,
-                               int line, double tolerance) {
+Rigid3d RigidFromMatrixOrThrow(const Eigen::Matrix4d& matrix, const std::filesystem::path& path, int line,
+                               double tolerance) {
   if (!matrix.allFinite()) Fail(path, line, "pose is not finite (NaN or infinity)");
   if ((matrix.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > tolerance) {
     Fail(path, line, "pose's bottom row is not 0 0 0 1");
@@ -34,8 +34,7 @@ Rigid3d RigidFromMatrixOrThrow(const Eigen::Matrix4d& matrix, const std::filesys
   const double orthogonality = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
   if (orthogonality > tolerance || r.determinant() < 0) {
     Fail(path, line,
-         fmt::format("pose is not rigid (max |R^T R - I| = {:.3g}, det R = {:.3g})", orthogonality,
-                     r.determinant()));
+         fmt::format("pose is not rigid (max |R^T R - I| = {:.3g}, det R = {:.3g})", orthogonality, r.determinant()));
   }
   Eigen::JacobiSVD<Eigen::Matrix3d> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Rigid3d result = Rigid3d::Identity();
@@ -44,8 +43,7 @@ Rigid3d RigidFromMatrixOrThrow(const Eigen::Matrix4d& matrix, const std::filesys
   return result;
 }
 
-Rigid3d RigidFromQuaternionOrThrow(const Eigen::Vector3d& translation,
-                                   const Eigen::Vector4d& quaternion_xyzw,
+Rigid3d RigidFromQuaternionOrThrow(const Eigen::Vector3d& translation, const Eigen::Vector4d& quaternion_xyzw,
                                    const std::filesystem::path& path, int line, double tolerance) {
   if (!translation.allFinite() || !quaternion_xyzw.allFinite()) {
     Fail(path, line, "pose is not finite (NaN or infinity)");
@@ -54,8 +52,7 @@ Rigid3d RigidFromQuaternionOrThrow(const Eigen::Vector3d& translation,
   if (std::abs(norm - 1.0) > tolerance) {
     Fail(path, line, fmt::format("quaternion is not unit (norm {:.4g})", norm));
   }
-  const Eigen::Quaterniond q(quaternion_xyzw[3], quaternion_xyzw[0], quaternion_xyzw[1],
-                             quaternion_xyzw[2]);
+  const Eigen::Quaterniond q(quaternion_xyzw[3], quaternion_xyzw[0], quaternion_xyzw[1], quaternion_xyzw[2]);
   Rigid3d result = Rigid3d::Identity();
   result.linear() = q.normalized().toRotationMatrix();
   result.translation() = translation;

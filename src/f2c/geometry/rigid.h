@@ -16,14 +16,12 @@ double RotationAngle(const Eigen::Matrix3d& rotation);
 // Checks that a 4x4 matrix read from `path` (at `line`, 0 if none) is a rigid transform:
 // finite, bottom row (0 0 0 1), rotation orthonormal within `tolerance` with det +1.
 // Returns it with the rotation projected exactly onto SO(3) (files hold a few digits).
-Rigid3d RigidFromMatrixOrThrow(const Eigen::Matrix4d& matrix, const std::filesystem::path& path,
-                               int line, double tolerance = 1e-3);
+Rigid3d RigidFromMatrixOrThrow(const Eigen::Matrix4d& matrix, const std::filesystem::path& path, int line,
+                               double tolerance = 1e-3);
 
 // Builds a rigid transform from a translation and a quaternion (x, y, z, w) read from a
 // file; the quaternion must have unit norm within `tolerance` and is then normalised.
-Rigid3d RigidFromQuaternionOrThrow(const Eigen::Vector3d& translation,
-                                   const Eigen::Vector4d& quaternion_xyzw,
-                                   const std::filesystem::path& path, int line,
-                                   double tolerance = 1e-2);
+Rigid3d RigidFromQuaternionOrThrow(const Eigen::Vector3d& translation, const Eigen::Vector4d& quaternion_xyzw,
+                                   const std::filesystem::path& path, int line, double tolerance = 1e-2);
 
 }  // namespace f2c

@@ -40,7 +40,8 @@ TEST(UpFromNormals, KeepsThePriorWhenNoSurfaceIsHorizontalEnough) {
   const Eigen::Vector3d prior(0, 2, 1);  // 63 degrees off: the floors lie outside the 45-degree cone
   EXPECT_TRUE(UpFromNormals(RoomNormals(up, 500, 0), prior).isApprox(prior.normalized(), 1e-12));
   // Inside the cone but too few to count (19 agree).
-  EXPECT_TRUE(UpFromNormals(RoomNormals(up, 19, 0), Eigen::Vector3d(0, 0.3, 1)).isApprox(Eigen::Vector3d(0, 0.3, 1).normalized(), 1e-12));
+  EXPECT_TRUE(UpFromNormals(RoomNormals(up, 19, 0), Eigen::Vector3d(0, 0.3, 1))
+                  .isApprox(Eigen::Vector3d(0, 0.3, 1).normalized(), 1e-12));
   EXPECT_GT(UpFromNormals(RoomNormals(up, 20, 0), Eigen::Vector3d(0, 0.3, 1)).z(), 0.999);
   EXPECT_TRUE(UpFromNormals({}, prior).isApprox(prior.normalized(), 1e-12));
 }

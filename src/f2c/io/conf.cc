@@ -72,9 +72,9 @@ ConfFile ReadConf(const fs::path& path, double assumed_fps) {
       image_dir = dir / tokens[1];
     } else if (key == "scan") {
       if (tokens.size() != 19) {
-        ThrowInputError(path, line.number,
-                        fmt::format("'scan' expects '<depth> <colour>' and 16 numbers, got {} fields",
-                                    tokens.size() - 1));
+        ThrowInputError(
+            path, line.number,
+            fmt::format("'scan' expects '<depth> <colour>' and 16 numbers, got {} fields", tokens.size() - 1));
       }
       const auto v = ParseDoublesOrThrow(tokens, 3, path, line.number, "16 matrix numbers");
       Eigen::Matrix4d m;
@@ -99,8 +99,7 @@ ConfFile ReadConf(const fs::path& path, double assumed_fps) {
   if (!have_dataset) ThrowInputError(path, "missing 'dataset' line");
   if (seq.frames.empty()) ThrowInputError(path, "no 'scan' line");
   if (n_images >= 0 && static_cast<size_t>(n_images) != seq.frames.size()) {
-    ThrowInputError(path, fmt::format("n_images says {} but {} scan lines follow", n_images,
-                                      seq.frames.size()));
+    ThrowInputError(path, fmt::format("n_images says {} but {} scan lines follow", n_images, seq.frames.size()));
   }
   return conf;
 }
@@ -121,8 +120,7 @@ void WriteConf(const fs::path& path, const RgbdSequence& sequence, const Traject
   std::string out = fmt::format("dataset {}\n", dataset);
   if (sequence.intrinsics) {
     const CameraIntrinsics& k = *sequence.intrinsics;
-    out += fmt::format("intrinsics_matrix {:.6g} 0 {:.6g} 0 {:.6g} {:.6g} 0 0 1\n", k.fx, k.cx,
-                       k.fy, k.cy);
+    out += fmt::format("intrinsics_matrix {:.6g} 0 {:.6g} 0 {:.6g} {:.6g} 0 0 1\n", k.fx, k.cx, k.fy, k.cy);
   }
   out += fmt::format("n_images {}\n", sequence.frames.size());
   out += fmt::format("depth_directory {}\n", depth_dir.string());

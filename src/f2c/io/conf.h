@@ -18,15 +18,14 @@
 namespace f2c {
 
 struct ConfFile {
-  RgbdSequence sequence;   // frames, intrinsics and depth decoding
-  Trajectory trajectory;   // the scan poses, timestamps = frame index (has_timestamps=false)
+  RgbdSequence sequence;  // frames, intrinsics and depth decoding
+  Trajectory trajectory;  // the scan poses, timestamps = frame index (has_timestamps=false)
 };
 
 ConfFile ReadConf(const std::filesystem::path& path, double assumed_fps = 30.0);
 
 // Writes `trajectory` (one pose per frame of `sequence`) as a .conf whose directories point
 // at the sequence's image folders (absolute paths, so the file can live anywhere).
-void WriteConf(const std::filesystem::path& path, const RgbdSequence& sequence,
-               const Trajectory& trajectory);
+void WriteConf(const std::filesystem::path& path, const RgbdSequence& sequence, const Trajectory& trajectory);
 
 }  // namespace f2c

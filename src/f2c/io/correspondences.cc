@@ -13,8 +13,8 @@ void WriteCorrespondences(const fs::path& path, const std::vector<Correspondence
   std::string text = fmt::format("n_correspondences {}\n", cs.size());
   for (const Correspondence& c : cs) {
     text += fmt::format("point3d SCAN:{} SCAN:{} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f}\n", c.frame_a, c.frame_b,
-                        c.point_in_a.x(), c.point_in_a.y(), c.point_in_a.z(), c.point_in_b.x(),
-                        c.point_in_b.y(), c.point_in_b.z());
+                        c.point_in_a.x(), c.point_in_a.y(), c.point_in_a.z(), c.point_in_b.x(), c.point_in_b.y(),
+                        c.point_in_b.z());
   }
   WriteFileAtomic(path, text);
 }

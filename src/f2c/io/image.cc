@@ -71,12 +71,10 @@ cv::Mat LoadDepthMeters(const RgbdSequence& sequence, const RgbdFrame& frame) {
                     fmt::format("depth image has {} channels of type {}; expected 16-bit single channel",
                                 raw.channels(), raw.depth()));
   }
-  if (sequence.intrinsics &&
-      (raw.cols != sequence.intrinsics->width || raw.rows != sequence.intrinsics->height)) {
+  if (sequence.intrinsics && (raw.cols != sequence.intrinsics->width || raw.rows != sequence.intrinsics->height)) {
     ThrowInputError(frame.depth_path,
-                    fmt::format("depth image is {}x{} but the intrinsics ({}) are for {}x{}", raw.cols,
-                                raw.rows, sequence.intrinsics_source, sequence.intrinsics->width,
-                                sequence.intrinsics->height));
+                    fmt::format("depth image is {}x{} but the intrinsics ({}) are for {}x{}", raw.cols, raw.rows,
+                                sequence.intrinsics_source, sequence.intrinsics->width, sequence.intrinsics->height));
   }
   // Every stored value's metres, once per sequence layout (a 256 KiB table): decoding,
   // invalid values and scale in one look-up per pixel.
@@ -113,9 +111,15 @@ cv::Mat UndistortImage(const cv::Mat& image, const CameraIntrinsics& intrinsics,
     cv::Mat x, y, fixed_xy, fixed_weights;
   };
   thread_local Maps maps;
-  const std::array<double, 9> key{intrinsics.fx, intrinsics.fy, intrinsics.cx, intrinsics.cy,
-                                  intrinsics.distortion[0], intrinsics.distortion[1], intrinsics.distortion[2],
-                                  intrinsics.distortion[3], intrinsics.distortion[4]};
+  const std::array<double, 9> key{intrinsics.fx,
+                                  intrinsics.fy,
+                                  intrinsics.cx,
+                                  intrinsics.cy,
+                                  intrinsics.distortion[0],
+                                  intrinsics.distortion[1],
+                                  intrinsics.distortion[2],
+                                  intrinsics.distortion[3],
+                                  intrinsics.distortion[4]};
   if (maps.x.size() != image.size() || maps.key != key) {
     maps.key = key;
     maps.x.create(image.size(), CV_32F);
@@ -144,9 +148,8 @@ cv::Mat LoadColorAs(const RgbdFrame& frame, cv::Size depth_size, int flags) {
   cv::Mat color = DecodeImageFile(frame.color_path, flags);
   if (!depth_size.empty() && color.size() != depth_size) {
     ThrowInputError(frame.color_path,
-                    fmt::format("colour image is {}x{} but its depth image {} is {}x{}", color.cols,
-                                color.rows, frame.depth_path.filename().string(), depth_size.width,
-                                depth_size.height));
+                    fmt::format("colour image is {}x{} but its depth image {} is {}x{}", color.cols, color.rows,
+                                frame.depth_path.filename().string(), depth_size.width, depth_size.height));
   }
   return color;
 }

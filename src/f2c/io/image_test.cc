@@ -84,7 +84,8 @@ TEST(LoadDepthMeters, CorruptAndMissingFiles) {
   EXPECT_EQ(testing::InputErrorMessage([&] { LoadGray(f.seq, f.frame, cv::Size(640, 480)); }),
             f.frame.color_path.string() + ": corrupt JPEG: Premature end of JPEG file");
   fs::remove(f.frame.depth_path);
-  EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(f.seq, f.frame); }), f.frame.depth_path.string() + ": missing frame image");
+  EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(f.seq, f.frame); }),
+            f.frame.depth_path.string() + ": missing frame image");
 }
 
 TEST(LoadDepthMeters, SizeMustMatchIntrinsics) {

@@ -41,13 +41,14 @@ DecodeStatus DecodeJpeg(std::string_view bytes, bool grey, cv::Mat* out, std::st
   if (width <= 0 || height <= 0) return DecodeStatus::kNotHandled;
   // Larger than any depth camera's frame: refused before anything is allocated.
   if (int64_t{width} * height > (int64_t{1} << 25)) {
-    if (problem) *problem = fmt::format("JPEG of {} x {} pixels: over the 32-megapixel limit for RGB-D frames", width, height);
+    if (problem)
+      *problem = fmt::format("JPEG of {} x {} pixels: over the 32-megapixel limit for RGB-D frames", width, height);
     return DecodeStatus::kCorrupt;
   }
   cv::Mat image(height, width, grey ? CV_8UC1 : CV_8UC3);
   // A warning (a cut-short or damaged stream decodes partly) counts as damage.
-  if (tjDecompress2(handle.get(), data, static_cast<unsigned long>(size), image.data, width, static_cast<int>(image.step[0]),
-                    height, grey ? TJPF_GRAY : TJPF_BGR, TJFLAG_STOPONWARNING) != 0) {
+  if (tjDecompress2(handle.get(), data, static_cast<unsigned long>(size), image.data, width,
+                    static_cast<int>(image.step[0]), height, grey ? TJPF_GRAY : TJPF_BGR, TJFLAG_STOPONWARNING) != 0) {
     if (problem) *problem = std::string("corrupt JPEG: ") + tjGetErrorStr2(handle.get());
     return DecodeStatus::kCorrupt;
   }

@@ -32,7 +32,8 @@ std::string Encode(const cv::Mat& image, const std::vector<int>& params) {
 }
 
 cv::Mat OpenCv(const std::string& jpeg) {
-  return cv::imdecode(cv::Mat(1, static_cast<int>(jpeg.size()), CV_8U, const_cast<char*>(jpeg.data())), cv::IMREAD_COLOR);
+  return cv::imdecode(cv::Mat(1, static_cast<int>(jpeg.size()), CV_8U, const_cast<char*>(jpeg.data())),
+                      cv::IMREAD_COLOR);
 }
 
 void ExpectSameAsOpenCv(const std::string& jpeg, const std::string& what) {
@@ -45,8 +46,8 @@ void ExpectSameAsOpenCv(const std::string& jpeg, const std::string& what) {
   // And grey, as IMREAD_GRAYSCALE.
   cv::Mat grey;
   ASSERT_EQ(DecodeJpeg(jpeg, true, &grey), DecodeStatus::kDecoded) << what;
-  const cv::Mat their_grey =
-      cv::imdecode(cv::Mat(1, static_cast<int>(jpeg.size()), CV_8U, const_cast<char*>(jpeg.data())), cv::IMREAD_GRAYSCALE);
+  const cv::Mat their_grey = cv::imdecode(
+      cv::Mat(1, static_cast<int>(jpeg.size()), CV_8U, const_cast<char*>(jpeg.data())), cv::IMREAD_GRAYSCALE);
   ASSERT_EQ(grey.type(), their_grey.type()) << what;
   EXPECT_EQ(cv::norm(grey, their_grey, cv::NORM_INF), 0.0) << what;
 }
@@ -94,7 +95,11 @@ TEST(DecodeJpeg, LeavesExifToOpenCvAndSaysWhenCutShort) {
   ASSERT_EQ(DecodeJpeg(jpeg, false, &out), DecodeStatus::kDecoded);
   const cv::Mat decoded = out;
   // An EXIF segment (OpenCV would apply its orientation): right after SOI.
-  const std::string exif = std::string("\xFF\xE1\x00\x10" "Exif\0\0", 10) + std::string(8, '\0');
+  const std::string exif = std::string(
+                               "\xFF\xE1\x00\x10"
+                               "Exif\0\0",
+                               10) +
+                           std::string(8, '\0');
   EXPECT_EQ(DecodeJpeg(jpeg.substr(0, 2) + exif + jpeg.substr(2), false, &out), DecodeStatus::kNotHandled);
   EXPECT_EQ(DecodeJpeg("\x89PNG\r\n\x1a\n", true, &out), DecodeStatus::kNotHandled);
   // Cut short: libjpeg alone would fill the rest with grey and only warn.

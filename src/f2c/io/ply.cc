@@ -19,12 +19,14 @@ void WritePly(const std::filesystem::path& path, const PlyPoints& p) {
   if (!p.colors.empty() && p.colors.size() != n) ThrowInputError(path, "PLY: one colour per point needed");
   for (const std::array<int32_t, 3>& f : p.faces) {
     for (int32_t i : f) {
-      if (i < 0 || static_cast<size_t>(i) >= n) ThrowInputError(path, fmt::format("PLY: a face names vertex {} of {}", i, n));
+      if (i < 0 || static_cast<size_t>(i) >= n)
+        ThrowInputError(path, fmt::format("PLY: a face names vertex {} of {}", i, n));
     }
   }
-  std::string out = fmt::format("ply\nformat binary_little_endian 1.0\ncomment written by fine2coarse\n"
-                                "element vertex {}\nproperty float x\nproperty float y\nproperty float z\n",
-                                n);
+  std::string out = fmt::format(
+      "ply\nformat binary_little_endian 1.0\ncomment written by fine2coarse\n"
+      "element vertex {}\nproperty float x\nproperty float y\nproperty float z\n",
+      n);
   if (!p.normals.empty()) out += "property float nx\nproperty float ny\nproperty float nz\n";
   if (!p.colors.empty()) out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   if (!p.faces.empty()) out += fmt::format("element face {}\nproperty list uchar int vertex_indices\n", p.faces.size());
@@ -90,7 +92,8 @@ PlyPoints ReadPly(const std::filesystem::path& path) {
     if (*at != 3) ThrowInputError(path, "PLY: only triangles are read");
     std::memcpy(f.data(), at + 1, 12), at += kFaceRecord;
     for (int32_t i : f) {
-      if (i < 0 || static_cast<size_t>(i) >= n) ThrowInputError(path, fmt::format("PLY: a face names vertex {} of {}", i, n));
+      if (i < 0 || static_cast<size_t>(i) >= n)
+        ThrowInputError(path, fmt::format("PLY: a face names vertex {} of {}", i, n));
     }
   }
   return p;

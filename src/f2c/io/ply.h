@@ -12,9 +12,9 @@ namespace f2c {
 
 struct PlyPoints {
   std::vector<Eigen::Vector3f> positions;
-  std::vector<Eigen::Vector3f> normals;               // empty, or one per position
-  std::vector<std::array<uint8_t, 3>> colors;         // empty, or one per position (RGB)
-  std::vector<std::array<int32_t, 3>> faces;          // triangles (vertex indices); empty for points
+  std::vector<Eigen::Vector3f> normals;        // empty, or one per position
+  std::vector<std::array<uint8_t, 3>> colors;  // empty, or one per position (RGB)
+  std::vector<std::array<int32_t, 3>> faces;   // triangles (vertex indices); empty for points
 };
 
 // InputError naming the path when the sizes disagree, a face names a missing vertex, or the

@@ -88,7 +88,8 @@ void RgbRowTo(PngRequest request, const uint8_t* rgb, uint8_t* out, uint32_t wid
   if (request == PngRequest::kGray) {
     for (uint32_t x = 0; x < width; ++x, rgb += 3) {
       const uint32_t r = rgb[0], g = rgb[1], b = rgb[2];
-      out[x] = r == g && r == b ? static_cast<uint8_t>(r) : static_cast<uint8_t>((kRed * r + kGreen * g + kBlue * b) >> 15);
+      out[x] =
+          r == g && r == b ? static_cast<uint8_t>(r) : static_cast<uint8_t>((kRed * r + kGreen * g + kBlue * b) >> 15);
     }
   } else {
     for (uint32_t x = 0; x < width; ++x, rgb += 3, out += 3) {
@@ -144,11 +145,13 @@ DecodeStatus DecodePng(std::string_view bytes, PngRequest request, cv::Mat* out,
     if (first != Is(type, "IHDR")) {
       return corrupt(first ? "corrupt PNG: no IHDR chunk after the signature" : "corrupt PNG: a second IHDR chunk");
     }
-    if (length > size - pos - 12) return corrupt(fmt::format("corrupt PNG: the {} chunk is cut short", ChunkName(type)));
+    if (length > size - pos - 12)
+      return corrupt(fmt::format("corrupt PNG: the {} chunk is cut short", ChunkName(type)));
     const uint8_t* body = type + 4;
     if (libdeflate_crc32(0, type, length + 4) != BigEndian32(body + length)) {
       // Damage in the image's own chunks is an error; libpng skips a damaged ancillary one.
-      if ((type[0] & 0x20) == 0) return corrupt(fmt::format("corrupt PNG: bad checksum in the {} chunk", ChunkName(type)));
+      if ((type[0] & 0x20) == 0)
+        return corrupt(fmt::format("corrupt PNG: bad checksum in the {} chunk", ChunkName(type)));
       return kNotHandled;
     }
     if (Is(type, "IHDR")) {
@@ -157,7 +160,8 @@ DecodeStatus DecodePng(std::string_view bytes, PngRequest request, cv::Mat* out,
       h.height = BigEndian32(body + 4);
       // Larger than any depth camera's frame: refused from the header, before anything else.
       if (uint64_t{h.width} * h.height > (uint64_t{1} << 25)) {
-        return corrupt(fmt::format("PNG of {} x {} pixels: over the 32-megapixel limit for RGB-D frames", h.width, h.height));
+        return corrupt(
+            fmt::format("PNG of {} x {} pixels: over the 32-megapixel limit for RGB-D frames", h.width, h.height));
       }
       h.bit_depth = body[8];
       h.color_type = body[9];
@@ -203,7 +207,8 @@ DecodeStatus DecodePng(std::string_view bytes, PngRequest request, cv::Mat* out,
   const uint8_t* above = zeros.data();
   for (uint32_t y = 0; y < h.height; ++y) {
     uint8_t* row = raw.get() + y * (row_bytes + 1);
-    if (!UnfilterRow(bpp, row[0], row + 1, above, row_bytes)) return corrupt(fmt::format("corrupt PNG: unknown filter type {} in row {}", row[0], y));
+    if (!UnfilterRow(bpp, row[0], row + 1, above, row_bytes))
+      return corrupt(fmt::format("corrupt PNG: unknown filter type {} in row {}", row[0], y));
     if (rgb) {
       RgbRowTo(request, row + 1, image.ptr<uint8_t>(static_cast<int>(y)), h.width);
     } else {

@@ -167,7 +167,8 @@ TEST(DecodePng, LeavesOtherKindsToOpenCv) {
   cv::imencode(".png", TestImage(CV_8UC4, 6), buffer);
   EXPECT_EQ(DecodePng(std::string(buffer.begin(), buffer.end()), PngRequest::kBgr, &out), DecodeStatus::kNotHandled);
   cv::imencode(".png", TestImage(CV_16UC3, 7), buffer);
-  EXPECT_EQ(DecodePng(std::string(buffer.begin(), buffer.end()), PngRequest::kUnchanged, &out), DecodeStatus::kNotHandled);
+  EXPECT_EQ(DecodePng(std::string(buffer.begin(), buffer.end()), PngRequest::kUnchanged, &out),
+            DecodeStatus::kNotHandled);
   EXPECT_EQ(DecodePng(EncodePng(TestImage(CV_16UC1, 8), 1), PngRequest::kGray, &out), DecodeStatus::kNotHandled);
   EXPECT_EQ(DecodePng(EncodePng(rgb, 1, std::string("gAMA\0\0\xb1\x8f", 8)), PngRequest::kGray, &out),
             DecodeStatus::kNotHandled);

@@ -21,8 +21,7 @@ std::vector<std::filesystem::path> ListImages(const std::filesystem::path& dir);
 // Pairs each of `a` with the nearest unused of `b` within `max_difference`, as the TUM
 // tools' associate.py does (greedy by smallest difference). Returns (index_a, index_b)
 // sorted by index_a.
-std::vector<std::pair<size_t, size_t>> AssociateTimestamps(const std::vector<double>& a,
-                                                           const std::vector<double>& b,
+std::vector<std::pair<size_t, size_t>> AssociateTimestamps(const std::vector<double>& a, const std::vector<double>& b,
                                                            double max_difference);
 
 }  // namespace f2c::internal

@@ -23,8 +23,7 @@ std::vector<fs::path> ListImages(const fs::path& dir) {
   for (const auto& e : fs::directory_iterator(dir)) {
     std::string ext = e.path().extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-    if (e.is_regular_file() &&
-        (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".ppm" || ext == ".pgm")) {
+    if (e.is_regular_file() && (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".ppm" || ext == ".pgm")) {
       images.push_back(e.path());
     }
   }
@@ -87,15 +86,17 @@ RgbdSequence ReadSevenScenes(const fs::path& dir, const IoOptions& options) {
     if (std::find(folders.begin(), folders.end(), chosen) == folders.end()) {
       std::vector<std::string> names;
       for (const fs::path& f : folders) names.push_back(f.filename().string());
-      ThrowInputError(dir, fmt::format("no sequence folder '{}' (it has: {})", options.sequence,
-                                       names.empty() ? std::string("none") : fmt::format("{}", fmt::join(names, ", "))));
+      ThrowInputError(dir,
+                      fmt::format("no sequence folder '{}' (it has: {})", options.sequence,
+                                  names.empty() ? std::string("none") : fmt::format("{}", fmt::join(names, ", "))));
     }
     folders = {chosen};
   } else {
     if (folders.size() > 1) {
-      spdlog::warn("{}: {} seq-XX folders joined into one sequence; the pair across each join is not a real "
-                   "motion (--sequence NAME reads one)",
-                   dir.string(), folders.size());
+      spdlog::warn(
+          "{}: {} seq-XX folders joined into one sequence; the pair across each join is not a real "
+          "motion (--sequence NAME reads one)",
+          dir.string(), folders.size());
     }
     folders.insert(folders.begin(), dir);
   }
@@ -137,8 +138,7 @@ CameraIntrinsics ReadOpen3dIntrinsics(const fs::path& path) {
   } catch (const nlohmann::json::exception& e) {
     ThrowInputError(path, std::string("not valid JSON: ") + e.what());
   }
-  if (!j.contains("intrinsic_matrix") || !j["intrinsic_matrix"].is_array() ||
-      j["intrinsic_matrix"].size() != 9) {
+  if (!j.contains("intrinsic_matrix") || !j["intrinsic_matrix"].is_array() || j["intrinsic_matrix"].size() != 9) {
     ThrowInputError(path, "expected 'intrinsic_matrix' with 9 numbers (Open3D intrinsic JSON)");
   }
   std::vector<double> m;
@@ -147,7 +147,8 @@ CameraIntrinsics ReadOpen3dIntrinsics(const fs::path& path) {
     m.push_back(v.get<double>());
   }
   for (const char* key : {"width", "height"}) {
-    if (j.contains(key) && (!j[key].is_number_integer() || j[key].get<int64_t>() <= 0 || j[key].get<int64_t>() > 100000)) {
+    if (j.contains(key) &&
+        (!j[key].is_number_integer() || j[key].get<int64_t>() <= 0 || j[key].get<int64_t>() > 100000)) {
       ThrowInputError(path, std::string("'") + key + "' must be a whole number of pixels (1 to 100000)");
     }
   }
@@ -164,8 +165,8 @@ RgbdSequence ReadRedwood(const fs::path& dir, const IoOptions& options) {
   const auto depths = ListImages(dir / "depth");
   if (depths.empty()) ThrowInputError(dir / "depth", "holds no depth image");
   if (colors.size() != depths.size()) {
-    ThrowInputError(dir, fmt::format("{} colour images in {} but {} depth images in depth/",
-                                     colors.size(), color_dir.filename().string(), depths.size()));
+    ThrowInputError(dir, fmt::format("{} colour images in {} but {} depth images in depth/", colors.size(),
+                                     color_dir.filename().string(), depths.size()));
   }
   for (size_t i = 0; i < colors.size(); ++i) {
     RgbdFrame frame;
@@ -193,8 +194,7 @@ RgbdSequence ReadRedwood(const fs::path& dir, const IoOptions& options) {
       const auto id = static_cast<long>(log.timestamps[i]);
       if (id < 0 || id >= static_cast<long>(seq.frames.size())) {
         ThrowInputError(dir / "trajectory.log",
-                        fmt::format("pose for frame {} but the folder has {} frames", id,
-                                    seq.frames.size()));
+                        fmt::format("pose for frame {} but the folder has {} frames", id, seq.frames.size()));
       }
       gt.Add(seq.frames[id].timestamp, log.world_from_camera[i]);
     }

@@ -35,8 +35,7 @@ std::vector<StampedFile> ReadFileList(const fs::path& list, const fs::path& dir)
 
 }  // namespace
 
-std::vector<std::pair<size_t, size_t>> AssociateTimestamps(const std::vector<double>& a,
-                                                           const std::vector<double>& b,
+std::vector<std::pair<size_t, size_t>> AssociateTimestamps(const std::vector<double>& a, const std::vector<double>& b,
                                                            double max_difference) {
   // Candidate pairs within the window; b sorted so each a needs one binary search.
   std::vector<size_t> b_order(b.size());
@@ -86,9 +85,8 @@ RgbdSequence ReadTum(const fs::path& dir, const IoOptions& options) {
     seq.frames.push_back(frame);
   }
   if (seq.frames.empty()) {
-    ThrowInputError(dir / "depth.txt",
-                    fmt::format("no depth image within {} s of a colour image in rgb.txt",
-                                options.max_time_difference));
+    ThrowInputError(dir / "depth.txt", fmt::format("no depth image within {} s of a colour image in rgb.txt",
+                                                   options.max_time_difference));
   }
   // TUM folders carry no intrinsics; ours (the simulator's) add camera-intrinsics.txt.
   if (fs::exists(dir / "camera-intrinsics.txt")) {

@@ -18,11 +18,16 @@ namespace fs = std::filesystem;
 
 std::string LayoutName(DatasetLayout layout) {
   switch (layout) {
-    case DatasetLayout::kTum: return "tum";
-    case DatasetLayout::kSevenScenes: return "7scenes";
-    case DatasetLayout::kRedwood: return "redwood";
-    case DatasetLayout::kSun3d: return "sun3d";
-    case DatasetLayout::kConf: return "conf";
+    case DatasetLayout::kTum:
+      return "tum";
+    case DatasetLayout::kSevenScenes:
+      return "7scenes";
+    case DatasetLayout::kRedwood:
+      return "redwood";
+    case DatasetLayout::kSun3d:
+      return "sun3d";
+    case DatasetLayout::kConf:
+      return "conf";
   }
   return "?";
 }
@@ -47,8 +52,7 @@ bool HasSevenScenesFrames(const fs::path& dir) {
   };
   if (has_depth_frames(dir)) return true;
   for (const auto& e : fs::directory_iterator(dir)) {
-    if (e.is_directory() && e.path().filename().string().rfind("seq-", 0) == 0 &&
-        has_depth_frames(e.path())) {
+    if (e.is_directory() && e.path().filename().string().rfind("seq-", 0) == 0 && has_depth_frames(e.path())) {
       return true;
     }
   }
@@ -96,12 +100,10 @@ DatasetLayout DetectLayout(const fs::path& path) {
   if (fs::is_empty(path, ec)) ThrowInputError(path, "folder is empty");
   if (fs::exists(path / "rgb.txt") && fs::exists(path / "depth.txt")) return DatasetLayout::kTum;
   if (HasSevenScenesFrames(path)) return DatasetLayout::kSevenScenes;
-  if (fs::is_directory(path / "image") && fs::is_directory(path / "depth") &&
-      fs::exists(path / "intrinsics.txt")) {
+  if (fs::is_directory(path / "image") && fs::is_directory(path / "depth") && fs::exists(path / "intrinsics.txt")) {
     return DatasetLayout::kSun3d;
   }
-  if ((fs::is_directory(path / "color") || fs::is_directory(path / "image")) &&
-      fs::is_directory(path / "depth")) {
+  if ((fs::is_directory(path / "color") || fs::is_directory(path / "image")) && fs::is_directory(path / "depth")) {
     return DatasetLayout::kRedwood;
   }
   if (ConfFilesIn(path).size() == 1) return DatasetLayout::kConf;
@@ -116,10 +118,18 @@ RgbdSequence ReadSequence(const fs::path& path, const IoOptions& options) {
   const DatasetLayout layout = DetectLayout(path);
   RgbdSequence sequence;
   switch (layout) {
-    case DatasetLayout::kTum: sequence = internal::ReadTum(path, options); break;
-    case DatasetLayout::kSevenScenes: sequence = internal::ReadSevenScenes(path, options); break;
-    case DatasetLayout::kRedwood: sequence = internal::ReadRedwood(path, options); break;
-    case DatasetLayout::kSun3d: sequence = internal::ReadSun3d(path, options); break;
+    case DatasetLayout::kTum:
+      sequence = internal::ReadTum(path, options);
+      break;
+    case DatasetLayout::kSevenScenes:
+      sequence = internal::ReadSevenScenes(path, options);
+      break;
+    case DatasetLayout::kRedwood:
+      sequence = internal::ReadRedwood(path, options);
+      break;
+    case DatasetLayout::kSun3d:
+      sequence = internal::ReadSun3d(path, options);
+      break;
     case DatasetLayout::kConf: {
       const fs::path conf_path = fs::is_directory(path) ? ConfFilesIn(path)[0] : path;
       ConfFile conf = ReadConf(conf_path, options.assumed_fps);
@@ -161,8 +171,9 @@ RgbdSequence ReadSequence(const fs::path& path, const IoOptions& options) {
 
 const CameraIntrinsics& RequireIntrinsics(const RgbdSequence& seq) {
   if (!seq.intrinsics) {
-    ThrowInputError(seq.root, "no intrinsics: pass --intrinsics (a preset: tum-fr1, tum-fr2, "
-                              "tum-fr3, primesense; or fx,fy,cx,cy)");
+    ThrowInputError(seq.root,
+                    "no intrinsics: pass --intrinsics (a preset: tum-fr1, tum-fr2, "
+                    "tum-fr3, primesense; or fx,fy,cx,cy)");
   }
   return *seq.intrinsics;
 }
@@ -175,8 +186,7 @@ std::string CacheContext(const RgbdSequence& seq, const std::string& options_jso
   std::string context = options_json;
   if (seq.intrinsics) {
     const CameraIntrinsics& k = *seq.intrinsics;
-    context += fmt::format("|K {:.17g} {:.17g} {:.17g} {:.17g} {} {}", k.fx, k.fy, k.cx, k.cy,
-                           k.width, k.height);
+    context += fmt::format("|K {:.17g} {:.17g} {:.17g} {:.17g} {} {}", k.fx, k.fy, k.cx, k.cy, k.width, k.height);
     if (k.HasDistortion()) context += fmt::format("|D {:.17g}", fmt::join(k.distortion, " "));
   }
   context += fmt::format("|depth {:.17g} {} {}", seq.depth_scale, static_cast<int>(seq.depth_encoding),

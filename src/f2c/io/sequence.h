@@ -27,7 +27,7 @@ struct RgbdFrame {
   double timestamp = 0;  // seconds
   std::filesystem::path color_path;
   std::filesystem::path depth_path;
-  std::string name;      // short name for logs and .conf files (the depth file's name)
+  std::string name;  // short name for logs and .conf files (the depth file's name)
 };
 
 struct RgbdSequence {
@@ -39,7 +39,7 @@ struct RgbdSequence {
   double depth_scale = 0.001;                  // metres per unit (after decoding)
   std::vector<uint16_t> invalid_depth_values{0};
   DepthEncoding depth_encoding = DepthEncoding::kPlain;
-  std::optional<Trajectory> ground_truth;      // camera-to-world
+  std::optional<Trajectory> ground_truth;  // camera-to-world
   std::filesystem::path ground_truth_source;
 };
 
@@ -67,14 +67,17 @@ struct IoOptions {
   template <class V>
   void Fields(V& v) {
     v.Group("Frames");
-    F2C_FIELD(v, intrinsics, "--intrinsics", {},
-              "fx,fy,cx,cy[,k1,k2,p1,p2[,k3]] or a preset: tum-fr1, tum-fr2, tum-fr3, primesense (TUM folders carry none; "
-              "overrides a dataset's own; with distortion, frames are resampled to the pinhole model)");
+    F2C_FIELD(
+        v, intrinsics, "--intrinsics", {},
+        "fx,fy,cx,cy[,k1,k2,p1,p2[,k3]] or a preset: tum-fr1, tum-fr2, tum-fr3, primesense (TUM folders carry none; "
+        "overrides a dataset's own; with distortion, frames are resampled to the pinhole model)");
     F2C_FIELD(v, every, "--every", AtLeast(1), "use every N-th frame");
     F2C_FIELD(v, first, "--first", AtLeast(0), "first frame (0-based)");
     F2C_FIELD(v, last, "--last", AtLeast(-1), "last frame, inclusive (-1: the end)");
-    F2C_FIELD(v, sequence, "--sequence", {}, "7-Scenes/3DMatch: read only this seq-XX subfolder (default: all, joined)");
-    F2C_FIELD(v, max_time_difference, "", Positive(), "TUM: colour and depth images this close in time (s) are a frame");
+    F2C_FIELD(v, sequence, "--sequence", {},
+              "7-Scenes/3DMatch: read only this seq-XX subfolder (default: all, joined)");
+    F2C_FIELD(v, max_time_difference, "", Positive(),
+              "TUM: colour and depth images this close in time (s) are a frame");
     F2C_FIELD(v, assumed_fps, "", Positive(), "frame rate of layouts without timestamps");
     F2C_FIELD(v, check_files, "", {}, "check that every listed image exists");
   }

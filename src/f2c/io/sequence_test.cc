@@ -37,7 +37,8 @@ TEST(DetectLayout, MissingEmptyAndUnknown) {
   EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(root / "absent"); }),
             (root / "absent").string() + ": no such file or folder");
   fs::create_directories(root / "empty");
-  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(root / "empty"); }), (root / "empty").string() + ": folder is empty");
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(root / "empty"); }),
+            (root / "empty").string() + ": folder is empty");
   fs::create_directories(root / "other");
   WriteFileAtomic(root / "other" / "notes.txt", "hello");
   EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(root / "other"); }),
@@ -86,7 +87,8 @@ TEST(ReadTum, NoDepthWithinTheAssociationWindow) {
 TEST(ReadTum, MalformedRgbTxt) {
   const fs::path dir = TumFolder("tum_bad_list", 2);
   WriteFileAtomic(dir / "rgb.txt", "# color\n1000.0 rgb/a.png\n1000.1\n");
-  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir); }), (dir / "rgb.txt").string() + ":3: expected 'timestamp filename'");
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir); }),
+            (dir / "rgb.txt").string() + ":3: expected 'timestamp filename'");
 }
 
 TEST(ReadTum, MissingFrameImage) {
@@ -103,7 +105,8 @@ TEST(ReadTum, IntrinsicsOption) {
   io.intrinsics = "tum-fr2";
   EXPECT_DOUBLE_EQ(ReadSequence(dir, io).intrinsics->fx, 520.9);
   io.intrinsics = "525,0,320,240";
-  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir, io); }), "--intrinsics: focal length must be positive (fx=525, fy=0)");
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir, io); }),
+            "--intrinsics: focal length must be positive (fx=525, fy=0)");
 }
 
 // A 7-Scenes folder: frame-XXXXXX.{color.png,depth.png,pose.txt} + camera-intrinsics.txt.
@@ -118,8 +121,8 @@ fs::path SevenScenesFolder(const std::string& name, int n) {
     cv::imwrite((dir / (stem + ".color.png")).string(), frame.color);
     cv::imwrite((dir / (stem + ".depth.png")).string(), mm);
     const Eigen::Matrix4d m = poses[i].matrix();
-    WriteFileAtomic(dir / (stem + ".pose.txt"), fmt::format("1 0 0 {}\n0 1 0 {}\n0 0 1 {}\n0 0 0 1\n",
-                                                                m(0, 3), m(1, 3), m(2, 3)));
+    WriteFileAtomic(dir / (stem + ".pose.txt"),
+                    fmt::format("1 0 0 {}\n0 1 0 {}\n0 0 1 {}\n0 0 0 1\n", m(0, 3), m(1, 3), m(2, 3)));
   }
   WriteFileAtomic(dir / "camera-intrinsics.txt", "525 0 319.5\n0 525 239.5\n0 0 1\n");
   return dir;
@@ -248,7 +251,8 @@ TEST(ReadRedwood, CountMismatchAndDefaultIntrinsics) {
   EXPECT_DOUBLE_EQ(seq.intrinsics->fx, 525.0);
   EXPECT_FALSE(seq.ground_truth.has_value());
   cv::imwrite((dir / "depth" / "00002.png").string(), depth);
-  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir); }), dir.string() + ": 2 colour images in color but 3 depth images in depth/");
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir); }),
+            dir.string() + ": 2 colour images in color but 3 depth images in depth/");
 }
 
 TEST(ReadRedwood, Open3dIntrinsicsJsonIsChecked) {

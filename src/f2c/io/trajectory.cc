@@ -20,13 +20,10 @@ Trajectory ReadTumTrajectory(const std::filesystem::path& path) {
     const auto tokens = SplitWhitespace(line.text);
     if (tokens.size() != 8) {
       ThrowInputError(path, line.number,
-                      fmt::format("expected 'timestamp tx ty tz qx qy qz qw', got {} fields",
-                                  tokens.size()));
+                      fmt::format("expected 'timestamp tx ty tz qx qy qz qw', got {} fields", tokens.size()));
     }
-    const auto v = ParseDoublesOrThrow(tokens, 0, path, line.number,
-                                       "'timestamp tx ty tz qx qy qz qw'");
-    const Rigid3d pose = RigidFromQuaternionOrThrow({v[1], v[2], v[3]}, {v[4], v[5], v[6], v[7]},
-                                                    path, line.number);
+    const auto v = ParseDoublesOrThrow(tokens, 0, path, line.number, "'timestamp tx ty tz qx qy qz qw'");
+    const Rigid3d pose = RigidFromQuaternionOrThrow({v[1], v[2], v[3]}, {v[4], v[5], v[6], v[7]}, path, line.number);
     if (!trajectory.empty() && v[0] <= trajectory.timestamps.back()) {
       ThrowInputError(path, line.number, "time stamps are not increasing");
     }
@@ -42,8 +39,8 @@ void WriteTumTrajectory(const std::filesystem::path& path, const Trajectory& tra
     const Rigid3d& pose = trajectory.world_from_camera[i];
     const Eigen::Quaterniond q(pose.linear());
     const Eigen::Vector3d t = pose.translation();
-    out += fmt::format("{:.6f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f}\n",
-                       trajectory.timestamps[i], t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
+    out += fmt::format("{:.6f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f}\n", trajectory.timestamps[i], t.x(),
+                       t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
   }
   WriteFileAtomic(path, out);
 }
@@ -61,8 +58,7 @@ Trajectory ReadLogTrajectory(const std::filesystem::path& path) {
   for (size_t b = 0; b < lines.size(); b += 5) {
     const auto header = SplitWhitespace(lines[b].text);
     long id = 0, j = 0, n = 0;
-    if (header.size() != 3 || !ParseInt(header[0], &id) || !ParseInt(header[1], &j) ||
-        !ParseInt(header[2], &n)) {
+    if (header.size() != 3 || !ParseInt(header[0], &id) || !ParseInt(header[1], &j) || !ParseInt(header[2], &n)) {
       ThrowInputError(path, lines[b].number, "expected a block header 'i j n' of three integers");
     }
     Eigen::Matrix4d m;

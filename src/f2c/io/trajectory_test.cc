@@ -49,7 +49,8 @@ TEST(TumTrajectory, MalformedLines) {
   EXPECT_EQ(testing::InputErrorMessage([&] { ReadTumTrajectory(path); }),
             path.string() + ":1: 'nan' is not a finite number; expected 'timestamp tx ty tz qx qy qz qw'");
   WriteFileAtomic(path, "1.0 0 0 0 0 0 0.5 0.5\n");
-  EXPECT_EQ(testing::InputErrorMessage([&] { ReadTumTrajectory(path); }), path.string() + ":1: quaternion is not unit (norm 0.7071)");
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadTumTrajectory(path); }),
+            path.string() + ":1: quaternion is not unit (norm 0.7071)");
   WriteFileAtomic(path, "# nothing\n");
   EXPECT_EQ(testing::InputErrorMessage([&] { ReadTumTrajectory(path); }), path.string() + ": trajectory holds no pose");
 }
@@ -98,7 +99,9 @@ TEST(PosesForFrames, ByTimeStampOrInOrder) {
   EXPECT_LT((mid[0].translation() - Eigen::Vector3d(1.5, -0.75, 0.25)).norm(), 1e-9);
   EXPECT_TRUE(mid[0].linear().isApprox(
       Eigen::AngleAxisd(0.45, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix(), 1e-9));
-  EXPECT_EQ(testing::InputErrorMessage([&] { PosesForFrames(shuffled, {100.0, 100.2}, path); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] {
+              PosesForFrames(shuffled, {100.0, 100.2}, path);
+            }),
             "poses.txt: no pose within 1 ms of frame 1 (time stamp 100.200000 s), nor two within 0.25 s around it");
   EXPECT_EQ(testing::InputErrorMessage([&] { PosesForFrames(shuffled, {100.05}, path, 1e-3, 0.02); }),
             "poses.txt: no pose within 1 ms of frame 0 (time stamp 100.050000 s), nor two within 0.02 s around it");
@@ -108,7 +111,9 @@ TEST(PosesForFrames, ByTimeStampOrInOrder) {
   const auto in_order = PosesForFrames(log, {7.0, 8.0, 9.0}, "t.log");
   ASSERT_EQ(in_order.size(), 3u);
   EXPECT_TRUE(in_order[2].isApprox(t.world_from_camera[2]));
-  EXPECT_EQ(testing::InputErrorMessage([&] { PosesForFrames(log, {7.0, 8.0}, "t.log"); }),
+  EXPECT_EQ(testing::InputErrorMessage([&] {
+              PosesForFrames(log, {7.0, 8.0}, "t.log");
+            }),
             "t.log: 3 poses for 2 frames (a file without time stamps needs one pose per frame, in order)");
 }
 
@@ -140,13 +145,15 @@ TEST(Conf, MalformedLines) {
   const fs::path path = testing::FreshTempDir("conf_bad") / "a.conf";
   WriteFileAtomic(path, "dataset tum\nn_image 3\n");
   EXPECT_EQ(testing::InputErrorMessage([&] { ReadConf(path); }),
-            path.string() + ":2: unknown key 'n_image' (expected dataset, intrinsics, intrinsics_matrix, "
-                            "n_images, depth_directory, image_directory or scan)");
+            path.string() +
+                ":2: unknown key 'n_image' (expected dataset, intrinsics, intrinsics_matrix, "
+                "n_images, depth_directory, image_directory or scan)");
   WriteFileAtomic(path, "dataset tum\nscan a.png b.jpg 1 0 0 0 0 1 0 0 0 0 1 0\n");
   EXPECT_EQ(testing::InputErrorMessage([&] { ReadConf(path); }),
             path.string() + ":2: 'scan' expects '<depth> <colour>' and 16 numbers, got 14 fields");
   WriteFileAtomic(path, "dataset tum\nn_images 2\nscan a.png b.jpg 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n");
-  EXPECT_EQ(testing::InputErrorMessage([&] { ReadConf(path); }), path.string() + ": n_images says 2 but 1 scan lines follow");
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadConf(path); }),
+            path.string() + ": n_images says 2 but 1 scan lines follow");
   WriteFileAtomic(path, "dataset tum\nintrinsics_matrix 0 0 320 0 500 240 0 0 1\n");
   EXPECT_EQ(testing::InputErrorMessage([&] { ReadConf(path); }),
             path.string() + ":2: focal length must be positive (fx=0, fy=500)");

@@ -57,8 +57,8 @@ namespace {
 
 // A sample defines a transform only if its points are spread (not nearly coincident or
 // collinear) and rigid (pairwise distances agree on both sides, up to the noise allowed).
-bool GoodSample(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
-                const int s[3], double threshold) {
+bool GoodSample(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, const int s[3],
+                double threshold) {
   for (int i = 0; i < 3; ++i) {
     for (int j = i + 1; j < 3; ++j) {
       const double da = (a[s[i]] - a[s[j]]).norm(), db = (b[s[i]] - b[s[j]]).norm();
@@ -69,8 +69,8 @@ bool GoodSample(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::
   return area > threshold * threshold;
 }
 
-std::vector<int> Inliers(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
-                         const Rigid3d& t, double threshold, double* rmse) {
+std::vector<int> Inliers(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, const Rigid3d& t,
+                         double threshold, double* rmse) {
   std::vector<int> inliers;
   double sum = 0;
   const double t2 = threshold * threshold;
@@ -139,8 +139,9 @@ Rigid3d RefineRigidAnisotropic(const std::vector<Eigen::Vector3d>& a, const std:
     const Eigen::Matrix<double, 6, 1> step = -h.ldlt().solve(g);
     if (!step.allFinite()) break;
     const Eigen::Vector3d omega = step.head<3>();
-    const Eigen::Matrix3d rotate =
-        omega.norm() > 0 ? Eigen::AngleAxisd(omega.norm(), omega.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d rotate = omega.norm() > 0
+                                       ? Eigen::AngleAxisd(omega.norm(), omega.normalized()).toRotationMatrix()
+                                       : Eigen::Matrix3d::Identity();
     t.linear() = rotate * t.linear();
     t.translation() = rotate * t.translation() + step.tail<3>();
     if (step.norm() < 1e-9) break;
@@ -158,9 +159,8 @@ Eigen::Matrix<double, 6, 6> RigidFitInformation(const std::vector<Eigen::Vector3
   return h;
 }
 
-RansacResult EstimateRigidRansac(const std::vector<Eigen::Vector3d>& a,
-                                 const std::vector<Eigen::Vector3d>& b, const RansacOptions& options,
-                                 uint64_t seed) {
+RansacResult EstimateRigidRansac(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                                 const RansacOptions& options, uint64_t seed) {
   F2C_CHECK(a.size() == b.size(), "matched point sets");
   RansacResult result;
   const int n = static_cast<int>(a.size());

@@ -90,9 +90,8 @@ Eigen::Matrix<double, 6, 6> RigidFitInformation(const std::vector<Eigen::Vector3
 // Finds b_from_a maximising |{i : |b_from_a * a[i] - b[i]| < threshold}|. `seed` fixes the
 // random samples, so the same input gives the same answer. Needs >= 3 matches; with fewer,
 // returns identity and no inlier.
-RansacResult EstimateRigidRansac(const std::vector<Eigen::Vector3d>& a,
-                                 const std::vector<Eigen::Vector3d>& b, const RansacOptions& options,
-                                 uint64_t seed);
+RansacResult EstimateRigidRansac(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                                 const RansacOptions& options, uint64_t seed);
 
 // Least-squares rigid fit b ~ T a over the given indices (all if empty).
 Rigid3d FitRigid(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,

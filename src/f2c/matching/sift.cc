@@ -20,12 +20,12 @@ void SiftOptions::Check() const {
   }
 }
 
-SiftFeatures ExtractSiftWithDepth(const cv::Mat& gray, const cv::Mat& depth,
-                                  const CameraIntrinsics& intrinsics, const SiftOptions& options) {
+SiftFeatures ExtractSiftWithDepth(const cv::Mat& gray, const cv::Mat& depth, const CameraIntrinsics& intrinsics,
+                                  const SiftOptions& options) {
   F2C_CHECK(gray.type() == CV_8UC1 && depth.type() == CV_32FC1 && gray.size() == depth.size(),
             "gray 8UC1 and depth 32FC1 of one size");
-  auto sift = cv::SIFT::create(options.max_features, options.octave_layers,
-                               options.contrast_threshold, options.edge_threshold, options.sigma);
+  auto sift = cv::SIFT::create(options.max_features, options.octave_layers, options.contrast_threshold,
+                               options.edge_threshold, options.sigma);
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;
   if (options.downscale > 1) {
@@ -51,7 +51,8 @@ SiftFeatures ExtractSiftWithDepth(const cv::Mat& gray, const cv::Mat& depth,
     kept.push_back(i);
   }
   features.descriptors.create(static_cast<int>(kept.size()), descriptors.cols, CV_32F);
-  for (size_t r = 0; r < kept.size(); ++r) descriptors.row(kept[r]).copyTo(features.descriptors.row(static_cast<int>(r)));
+  for (size_t r = 0; r < kept.size(); ++r)
+    descriptors.row(kept[r]).copyTo(features.descriptors.row(static_cast<int>(r)));
   return features;
 }
 

@@ -44,7 +44,8 @@ struct SiftOptions {
               "detect SIFT on the colour image shrunk by this factor (faster, coarser)");
     F2C_FIELD(v, min_depth, "--min-depth", AtLeast(0), "nearest valid depth (m)");
     F2C_FIELD(v, max_depth, "--max-depth", Positive(), "farthest valid depth (m)");
-    F2C_FIELD(v, max_depth_spread, "", Positive(), "keypoints on depth edges: largest 3x3 depth spread (share of depth)");
+    F2C_FIELD(v, max_depth_spread, "", Positive(),
+              "keypoints on depth edges: largest 3x3 depth spread (share of depth)");
   }
   void Check() const;  // InputError naming the field when out of range
 };
@@ -52,14 +53,14 @@ struct SiftOptions {
 struct SiftFeatures {
   std::vector<Eigen::Vector3d> points_in_camera;  // metres
   std::vector<cv::Point2f> pixels;
-  cv::Mat descriptors;                             // CV_32F, one row per point
-  int detected = 0;                                // keypoints before the depth test
+  cv::Mat descriptors;  // CV_32F, one row per point
+  int detected = 0;     // keypoints before the depth test
   size_t size() const { return points_in_camera.size(); }
 };
 
 // `gray` is 8-bit single channel, `depth` CV_32F metres (0 = invalid), same size.
-SiftFeatures ExtractSiftWithDepth(const cv::Mat& gray, const cv::Mat& depth,
-                                  const CameraIntrinsics& intrinsics, const SiftOptions& options);
+SiftFeatures ExtractSiftWithDepth(const cv::Mat& gray, const cv::Mat& depth, const CameraIntrinsics& intrinsics,
+                                  const SiftOptions& options);
 
 // The depth of a keypoint at `pixel`: the nearest pixel's, when it is within
 // [min_depth, max_depth] and its 3x3 neighbourhood spreads by at most max_depth_spread of it

@@ -113,8 +113,8 @@ TEST(MatchSiftRatio, SameMatchesAsABruteForceSearch) {
   }
   for (int i = 0; i < nq; ++i) {
     for (int d = 0; d < dim; ++d) {
-      query.descriptors.at<float>(i, d) = i % 2 == 0 ? train.descriptors.at<float>((7 * i) % nt, d) + noise(rng)
-                                                     : static_cast<float>(byte(rng));
+      query.descriptors.at<float>(i, d) =
+          i % 2 == 0 ? train.descriptors.at<float>((7 * i) % nt, d) + noise(rng) : static_cast<float>(byte(rng));
     }
   }
   train.points_in_camera.resize(nt);

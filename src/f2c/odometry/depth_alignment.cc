@@ -11,16 +11,16 @@ namespace f2c {
 
 void IcpOptions::Check() const {
   CheckFields(*this);
-  if (!(max_depth > min_depth)) ThrowInputError("max_depth", fmt::format("must exceed min_depth ({}), got {}", min_depth, max_depth));
+  if (!(max_depth > min_depth))
+    ThrowInputError("max_depth", fmt::format("must exceed min_depth ({}), got {}", min_depth, max_depth));
   if (iterations.empty()) ThrowInputError("iterations", "needs at least one pyramid level");
   for (int n : iterations) {
     if (n < 1) ThrowInputError("iterations", fmt::format("must be >= 1 per level, got {}", n));
   }
 }
 
-bool AlignDepthIcp(const cv::Mat& full_source_depth, const cv::Mat& full_target_depth,
-                   const CameraIntrinsics& full_k, const Rigid3d& initial_target_from_source,
-                   const IcpOptions& options, Rigid3d* target_from_source) {
+bool AlignDepthIcp(const cv::Mat& full_source_depth, const cv::Mat& full_target_depth, const CameraIntrinsics& full_k,
+                   const Rigid3d& initial_target_from_source, const IcpOptions& options, Rigid3d* target_from_source) {
   cv::Mat source_depth = full_source_depth, target_depth = full_target_depth;
   CameraIntrinsics k = full_k;
   if (options.downscale > 1) {
@@ -96,8 +96,8 @@ DepthConstraints AnalyseDepthConstraints(const cv::Mat& depth, const CameraIntri
   return AnalyseViewConstraints(depth, cv::Mat(), k, stride, 0.0).depth;
 }
 
-ViewConstraints AnalyseViewConstraints(const cv::Mat& depth, const cv::Mat& gray, const CameraIntrinsics& k,
-                                       int stride, double min_gradient) {
+ViewConstraints AnalyseViewConstraints(const cv::Mat& depth, const cv::Mat& gray, const CameraIntrinsics& k, int stride,
+                                       double min_gradient) {
   ViewConstraints out;
   // Normals from the depth averaged over (2 stride + 1)^2 pixels (invalid pixels left out):
   // raw depth noise (1-2 cm at 3 m) over a few pixels would tilt them by tens of degrees and
@@ -129,7 +129,7 @@ ViewConstraints AnalyseViewConstraints(const cv::Mat& depth, const cv::Mat& gray
     g->normalize();
     return true;
   };
-  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> samples;  // point, normal
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> samples;   // point, normal
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> sideways;  // point, a_i (header)
   double depth_sum = 0;
   for (int v = h; v + h < depth.rows; v += stride) {
@@ -179,8 +179,7 @@ Eigen::Matrix<double, 6, 1> LeftDifference(const Rigid3d& a, const Rigid3d& b, d
 
 }  // namespace
 
-Eigen::Matrix<double, 6, Eigen::Dynamic> PhotometricDirections(const ViewConstraints& view,
-                                                               double prior_information) {
+Eigen::Matrix<double, 6, Eigen::Dynamic> PhotometricDirections(const ViewConstraints& view, double prior_information) {
   const DepthConstraints& d = view.depth;
   // The information on e_i with the image added, every other direction free: 1 / (e_i^T (H_depth
   // + p I + H_image)^-1 e_i); without the image it is lambda_i + p (e_i is H_depth's).
@@ -199,8 +198,7 @@ Eigen::Matrix<double, 6, Eigen::Dynamic> PhotometricDirections(const ViewConstra
 }
 
 Rigid3d FusePhotometric(const Rigid3d& refined, const Rigid3d& fused, const ViewConstraints& view,
-                        const Eigen::Matrix<double, 6, Eigen::Dynamic>& b, double prior_information,
-                        int* degenerate) {
+                        const Eigen::Matrix<double, 6, Eigen::Dynamic>& b, double prior_information, int* degenerate) {
   const int m = static_cast<int>(b.cols());
   const Eigen::MatrixXd a_f =
       b.transpose() * (view.depth.information + prior_information * Eigen::Matrix<double, 6, 6>::Identity()) * b;
@@ -248,9 +246,8 @@ Eigen::Matrix<double, 6, 6> MeasuredInformation(const ViewConstraints& view,
   return (0.5 * (scaled + scaled.transpose())) / (prior_information * prior_sigma * prior_sigma);
 }
 
-DepthOverlap MeasureDepthOverlap(const cv::Mat& source_depth, const cv::Mat& target_depth,
-                                 const CameraIntrinsics& k, const Rigid3d& target_from_source,
-                                 double threshold, int stride) {
+DepthOverlap MeasureDepthOverlap(const cv::Mat& source_depth, const cv::Mat& target_depth, const CameraIntrinsics& k,
+                                 const Rigid3d& target_from_source, double threshold, int stride) {
   DepthOverlap overlap;
   int inside = 0, agree = 0;
   double sum = 0;

@@ -15,16 +15,16 @@
 namespace f2c {
 
 struct IcpOptions {
-  double min_depth = 0.3;           // metres; pixels outside are ignored
+  double min_depth = 0.3;  // metres; pixels outside are ignored
   double max_depth = 5.0;
-  double max_depth_difference = 0.07;  // correspondences further apart (metres) are dropped
-  double max_points_part = 0.07;       // fraction of pixels sampled per level (OpenCV default)
+  double max_depth_difference = 0.07;        // correspondences further apart (metres) are dropped
+  double max_points_part = 0.07;             // fraction of pixels sampled per level (OpenCV default)
   std::vector<int> iterations{7, 7, 7, 10};  // per pyramid level, fine to coarse
   // ICP runs on the depth images shrunk by this factor (every n-th pixel). 2 is 4x less work
   // but less accurate: mean T0 ATE 0.32 m against 0.20 m over the six simulated walks.
   int downscale = 1;
-  double max_translation = 0.3;     // metres between frames; larger answers are rejected
-  double max_rotation_deg = 30.0;   // likewise
+  double max_translation = 0.3;    // metres between frames; larger answers are rejected
+  double max_rotation_deg = 30.0;  // likewise
   // Degenerate geometry (a plain wall leaves ICP free to slide along it and turn about its
   // normal; a corner, to slide along the edge): ICP's answer is fused with the previous
   // motion as two estimates, ICP's information along each direction of motion being the
@@ -72,10 +72,12 @@ struct IcpOptions {
     F2C_FIELD(v, degeneracy_stride, "", AtLeast(1), "pixels between the depth samples of the degeneracy check");
     F2C_FIELD(v, photometric, "--icp-photometric,!--no-icp-photometric", {},
               "where the depth leaves motions free, measure them by photometric alignment");
-    F2C_FIELD(v, prior_sigma, "--icp-prior-sigma", Positive(),
-              "the motion prior's error per pair (m; rotations at the mean depth), the scale of an ICP pair's information");
-    F2C_FIELD(v, prior_sigma_growth, "--icp-prior-sigma-growth", AtLeast(0),
-              "the motion prior's error grows by this many --icp-prior-sigma per pair in a row before it left to the prior");
+    F2C_FIELD(
+        v, prior_sigma, "--icp-prior-sigma", Positive(),
+        "the motion prior's error per pair (m; rotations at the mean depth), the scale of an ICP pair's information");
+    F2C_FIELD(
+        v, prior_sigma_growth, "--icp-prior-sigma-growth", AtLeast(0),
+        "the motion prior's error grows by this many --icp-prior-sigma per pair in a row before it left to the prior");
     F2C_FIELD(v, min_gradient, "--icp-min-gradient", Positive(),
               "grey-level gradient (per pixel) at which a sample's intensity constrains the motion");
     F2C_NESTED(v, dense);
@@ -85,9 +87,8 @@ struct IcpOptions {
 
 // Estimates target_from_source. Returns false (and leaves *target_from_source alone) when
 // ICP fails or its answer moves more than the limits.
-bool AlignDepthIcp(const cv::Mat& source_depth, const cv::Mat& target_depth,
-                   const CameraIntrinsics& intrinsics, const Rigid3d& initial_target_from_source,
-                   const IcpOptions& options, Rigid3d* target_from_source);
+bool AlignDepthIcp(const cv::Mat& source_depth, const cv::Mat& target_depth, const CameraIntrinsics& intrinsics,
+                   const Rigid3d& initial_target_from_source, const IcpOptions& options, Rigid3d* target_from_source);
 
 // The motions a depth image constrains under point-to-plane alignment. With the
 // reference's points p_i and normals n_i (sampled every `stride` pixels) and L their mean
@@ -95,10 +96,10 @@ bool AlignDepthIcp(const cv::Mat& source_depth, const cv::Mat& target_depth,
 // J_i (w L, v), J_i = [(p_i x n_i) / L, n_i]. H = sum J_i^T J_i / N; its eigenvectors with
 // eigenvalue >= threshold are the constrained directions (in (w L, v) units).
 struct DepthConstraints {
-  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();  // H
-  Eigen::Matrix<double, 6, 1> eigenvalues = Eigen::Matrix<double, 6, 1>::Zero();  // ascending
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();       // H
+  Eigen::Matrix<double, 6, 1> eigenvalues = Eigen::Matrix<double, 6, 1>::Zero();       // ascending
   Eigen::Matrix<double, 6, 6> eigenvectors = Eigen::Matrix<double, 6, 6>::Identity();  // columns
-  double mean_depth = 1.0;  // L
+  double mean_depth = 1.0;                                                             // L
   int samples = 0;
   int Degenerate(double threshold) const;  // eigenvalues below threshold (diagnostics)
   // The information H' = P H P along the span of `directions` (orthonormal columns, P their
@@ -177,8 +178,7 @@ struct DepthOverlap {
 // Projects every `stride`-th valid source pixel into the target with target_from_source and
 // compares depths along the target ray.
 DepthOverlap MeasureDepthOverlap(const cv::Mat& source_depth, const cv::Mat& target_depth,
-                                 const CameraIntrinsics& intrinsics,
-                                 const Rigid3d& target_from_source, double threshold = 0.05,
-                                 int stride = 4);
+                                 const CameraIntrinsics& intrinsics, const Rigid3d& target_from_source,
+                                 double threshold = 0.05, int stride = 4);
 
 }  // namespace f2c

@@ -60,8 +60,8 @@ TEST(AnalyseDepthConstraints, CountsTheMotionsTheGeometryLeavesFree) {
   auto degenerate = [&](const Rigid3d& pose) {
     return AnalyseDepthConstraints(Render(scene, k, pose).depth, k, 8).Degenerate(IcpOptions().prior_information);
   };
-  EXPECT_EQ(degenerate(Pose(M_PI, {0.0, 0.0, -2.0})), 3);          // slide in the plane, turn about its normal
-  EXPECT_EQ(degenerate(Pose(0.75 * M_PI, {2.0, 0.0, -2.0})), 1);   // slide along the edge
+  EXPECT_EQ(degenerate(Pose(M_PI, {0.0, 0.0, -2.0})), 3);         // slide in the plane, turn about its normal
+  EXPECT_EQ(degenerate(Pose(0.75 * M_PI, {2.0, 0.0, -2.0})), 1);  // slide along the edge
   EXPECT_EQ(degenerate(Pose(0.75 * M_PI, {2.0, 1.3, -2.0})), 0);
 }
 
@@ -229,7 +229,8 @@ TEST(FusePhotometric, WeighsThePhotometricStepAgainstTheDepthAndThePrior) {
   EXPECT_EQ(degenerate, 1);  // the second axis: neither measures it
   // Where the depth is silent along every chosen direction it is ConstrainToGeometry with the
   // image's information.
-  const ViewConstraints silent = AxisConstraints((Eigen::Matrix<double, 6, 1>() << 0, 0, 0, 0.06, 0.1, 1).finished(), image);
+  const ViewConstraints silent =
+      AxisConstraints((Eigen::Matrix<double, 6, 1>() << 0, 0, 0, 0.06, 0.1, 1).finished(), image);
   const Rigid3d a = FusePhotometric(refined, fused, silent, b, p);
   const Rigid3d c = ConstrainToGeometry(refined, fused, silent.image.Along(b), p);
   EXPECT_LT((a.matrix() - c.matrix()).cwiseAbs().maxCoeff(), 1e-12);

@@ -36,8 +36,8 @@ double AngleDeg(const Rigid3d& t) {
 // The serial part: the current keyframe, the previous frame, and T0 so far.
 class KeyframeTracker {
  public:
-  KeyframeTracker(const RgbdSequence& seq, const OdometryOptions& options, const OdometryRun& run,
-                  StageClock* clock, Odometry* odometry)
+  KeyframeTracker(const RgbdSequence& seq, const OdometryOptions& options, const OdometryRun& run, StageClock* clock,
+                  Odometry* odometry)
       : k_(*seq.intrinsics), options_(options), run_(run), clock_(clock), odometry_(odometry) {
     poses_.resize(seq.frames.size());
   }
@@ -153,8 +153,8 @@ class KeyframeTracker {
     pair.frame = frame.frame;
     pair.reference = key_.frame;
     Timer timer;
-    const TrackedPoints points = TrackKeypoints(key_, frame.gray, frame.depth, k_, keyframe_from_guess,
-                                                options_.sift, options_.keyframes.track);
+    const TrackedPoints points =
+        TrackKeypoints(key_, frame.gray, frame.depth, k_, keyframe_from_guess, options_.sift, options_.keyframes.track);
     clock_->track += timer.Seconds();
     pair.keypoints_prev = static_cast<int>(key_.sift.size());
     pair.keypoints_curr = points.tracked;
@@ -211,9 +211,7 @@ Odometry AlignWithKeyframes(const RgbdSequence& seq, const OdometryOptions& opti
   if (cache.enabled()) {
     Timer timer;
     std::vector<uint64_t> frame_hash(n);
-    tbb::parallel_for(0, n, [&](int i) {
-      frame_hash[i] = HashFrameFiles(seq.frames[i]);
-    });
+    tbb::parallel_for(0, n, [&](int i) { frame_hash[i] = HashFrameFiles(seq.frames[i]); });
     uint64_t chain = frame_hash[0];
     for (int k = 1; k < n; ++k) {
       keys[k] = cache.Key(chain, frame_hash[k]);
@@ -242,38 +240,34 @@ Odometry AlignWithKeyframes(const RgbdSequence& seq, const OdometryOptions& opti
   if (first_computed < n) {
     int next = replay_from;
     const int tokens = 2 * tbb::this_task_arena::max_concurrency() + 2;
-    tbb::parallel_pipeline(
-        tokens,
-        tbb::make_filter<void, int>(tbb::filter_mode::serial_in_order,
-                                    [&](tbb::flow_control& fc) {
-                                      if (next >= n) {
-                                        fc.stop();
-                                        return 0;
-                                      }
-                                      return next++;
-                                    }) &
-            tbb::make_filter<int, Decoded>(tbb::filter_mode::parallel,
-                                           [&](int k) {
-                                             Decoded d;
-                                             d.frame = k;
-                                             internal::DecodeFrame(seq, k, &clock, &d.depth, &d.gray);
-                                             if (run.on_depth) run.on_depth(k, d.depth);
-                                             return d;
-                                           }) &
-            tbb::make_filter<Decoded, void>(tbb::filter_mode::serial_in_order, [&](Decoded d) {
-              const int k = d.frame;
-              ++frames_processed;
-              if (k < first_computed) {
-                tracker.Replay(std::move(d), k == replay_from);
-                return;
-              }
-              tracker.Step(std::move(d));
-              if (k > 0) {
-                cache.Store(keys[k], odometry.pairs[k - 1]);
-                progress.Advance();
-              }
-              if (k % run.chunk_frames == 0) cache.Save();  // a checkpoint: an interrupted run resumes here
-            }));
+    tbb::parallel_pipeline(tokens,
+                           tbb::make_filter<void, int>(tbb::filter_mode::serial_in_order, [&](tbb::flow_control& fc) {
+                             if (next >= n) {
+                               fc.stop();
+                               return 0;
+                             }
+                             return next++;
+                           }) & tbb::make_filter<int, Decoded>(tbb::filter_mode::parallel, [&](int k) {
+                             Decoded d;
+                             d.frame = k;
+                             internal::DecodeFrame(seq, k, &clock, &d.depth, &d.gray);
+                             if (run.on_depth) run.on_depth(k, d.depth);
+                             return d;
+                           }) & tbb::make_filter<Decoded, void>(tbb::filter_mode::serial_in_order, [&](Decoded d) {
+                             const int k = d.frame;
+                             ++frames_processed;
+                             if (k < first_computed) {
+                               tracker.Replay(std::move(d), k == replay_from);
+                               return;
+                             }
+                             tracker.Step(std::move(d));
+                             if (k > 0) {
+                               cache.Store(keys[k], odometry.pairs[k - 1]);
+                               progress.Advance();
+                             }
+                             if (k % run.chunk_frames == 0)
+                               cache.Save();  // a checkpoint: an interrupted run resumes here
+                           }));
   }
   cache.Save();
   progress.Finish();

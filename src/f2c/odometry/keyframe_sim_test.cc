@@ -44,10 +44,11 @@ TEST(KeyframeOdometry, OnASimulated30HzWalkIsNoWorseThanHalfTheFramesAndBetterTh
   EXPECT_LE(kf_even, every2_even) << "keyframes " << kf_even << " m, every second frame " << every2_even << " m";
   EXPECT_LT(kf_all, chain_all) << "keyframes " << kf_all << " m, consecutive " << chain_all << " m";
   EXPECT_LT(keyframes.timings.sift_frames, all.frames.size() / 2);  // SIFT on keyframes only
-  std::printf("T0 ATE: keyframes %.4f m (even frames %.4f), consecutive %.4f m, every second frame %.4f m; "
-              "%d keyframes, %d SIFT frames of %zu\n",
-              kf_all, kf_even, chain_all, every2_even, keyframes.timings.keyframes, keyframes.timings.sift_frames,
-              all.frames.size());
+  std::printf(
+      "T0 ATE: keyframes %.4f m (even frames %.4f), consecutive %.4f m, every second frame %.4f m; "
+      "%d keyframes, %d SIFT frames of %zu\n",
+      kf_all, kf_even, chain_all, every2_even, keyframes.timings.keyframes, keyframes.timings.sift_frames,
+      all.frames.size());
 }
 
 // The default odometry ends each pair's RANSAC with the ray-aware refit (odometry.h): under a

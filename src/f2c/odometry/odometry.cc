@@ -26,17 +26,19 @@ using namespace internal;  // NOLINT: this file defines them
 
 std::string MethodName(AlignmentMethod method) {
   switch (method) {
-    case AlignmentMethod::kSift: return "sift";
-    case AlignmentMethod::kTrack: return "track";
-    case AlignmentMethod::kIcp: return "icp";
-    case AlignmentMethod::kMotionPrior: return "motion_prior";
+    case AlignmentMethod::kSift:
+      return "sift";
+    case AlignmentMethod::kTrack:
+      return "track";
+    case AlignmentMethod::kIcp:
+      return "icp";
+    case AlignmentMethod::kMotionPrior:
+      return "motion_prior";
   }
   return "?";
 }
 
-void KeyframeOdometryOptions::Check() const {
-  CheckFields(*this);
-}
+void KeyframeOdometryOptions::Check() const { CheckFields(*this); }
 
 void OdometryOptions::Check() const {
   CheckFields(*this);
@@ -66,8 +68,8 @@ namespace internal {
 
 // SIFT + RANSAC. Leaves method = kMotionPrior when there are too few inliers, for the
 // fallback to resolve.
-PairAlignment AlignSift(const SiftFeatures& prev, const SiftFeatures& curr,
-                        const OdometryOptions& options, uint64_t seed, StageClock* clock) {
+PairAlignment AlignSift(const SiftFeatures& prev, const SiftFeatures& curr, const OdometryOptions& options,
+                        uint64_t seed, StageClock* clock) {
   PairAlignment pair;
   pair.keypoints_prev = static_cast<int>(prev.size());
   pair.keypoints_curr = static_cast<int>(curr.size());
@@ -111,8 +113,8 @@ bool NeedsFallback(const PairAlignment& pair, const OdometryOptions& options) {
 // Keeps whichever of the SIFT answer, the ICP answer and the previous motion the depth images
 // agree with most (SIFT wins ties).
 void ApplyFallback(const FrameImages& prev, const FrameImages& curr, const CameraIntrinsics& k,
-                   const OdometryOptions& options, const Rigid3d& previous_motion, int prior_age,
-                   StageClock* clock, PairAlignment* pair) {
+                   const OdometryOptions& options, const Rigid3d& previous_motion, int prior_age, StageClock* clock,
+                   PairAlignment* pair) {
   const IcpOptions& o = options.icp;
   PairAlignment best = *pair;
   if (pair->method != AlignmentMethod::kSift) {
@@ -138,9 +140,9 @@ void ApplyFallback(const FrameImages& prev, const FrameImages& curr, const Camer
                                                           o.degeneracy_stride, o.min_gradient);
       icp.prev_from_curr = ConstrainToGeometry(icp.prev_from_curr, previous_motion, view.depth, o.prior_information);
       icp.degenerate = view.depth.Degenerate(o.prior_information);
-      const Eigen::Matrix<double, 6, Eigen::Dynamic> weak =
-          photometric && icp.degenerate > 0 ? PhotometricDirections(view, o.prior_information)
-                                            : Eigen::Matrix<double, 6, Eigen::Dynamic>(6, 0);
+      const Eigen::Matrix<double, 6, Eigen::Dynamic> weak = photometric && icp.degenerate > 0
+                                                                ? PhotometricDirections(view, o.prior_information)
+                                                                : Eigen::Matrix<double, 6, Eigen::Dynamic>(6, 0);
       if (weak.cols() > 0) {
         // ...unless its image measures them: the fused answer refined by intensity along them
         // (and along any the image measures better than the depth), and kept as far as the
@@ -213,8 +215,7 @@ struct FrameData {
   bool loaded = false;
 };
 
-void LoadFrame(const RgbdSequence& seq, int index, const OdometryOptions& options, StageClock* clock,
-               FrameData* data) {
+void LoadFrame(const RgbdSequence& seq, int index, const OdometryOptions& options, StageClock* clock, FrameData* data) {
   DecodeFrame(seq, index, clock, &data->images.depth, &data->images.gray);
   data->sift = DescribeFrame(data->images.gray, data->images.depth, *seq.intrinsics, options, clock);
   data->loaded = true;
@@ -222,9 +223,8 @@ void LoadFrame(const RgbdSequence& seq, int index, const OdometryOptions& option
 
 }  // namespace
 
-PairAlignment AlignPair(const cv::Mat& gray_prev, const cv::Mat& depth_prev,
-                        const cv::Mat& gray_curr, const cv::Mat& depth_curr,
-                        const CameraIntrinsics& intrinsics, const OdometryOptions& options,
+PairAlignment AlignPair(const cv::Mat& gray_prev, const cv::Mat& depth_prev, const cv::Mat& gray_curr,
+                        const cv::Mat& depth_curr, const CameraIntrinsics& intrinsics, const OdometryOptions& options,
                         const Rigid3d& previous_motion, uint64_t seed) {
   StageClock clock;
   const SiftFeatures prev = ExtractSiftWithDepth(gray_prev, depth_prev, intrinsics, options.sift);
@@ -271,8 +271,7 @@ Odometry AlignFrames(const RgbdSequence& sequence, const OdometryOptions& option
                                    : AlignConsecutive(sequence, options, run);
 }
 
-Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& options,
-                          const OdometryRun& run) {
+Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& options, const OdometryRun& run) {
   options.Check();
   RequireIntrinsics(seq);
   Timer wall;
@@ -289,9 +288,7 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
   if (cache.enabled()) {
     Timer timer;
     std::vector<uint64_t> frame_hash(n);
-    tbb::parallel_for(0, n, [&](int i) {
-      frame_hash[i] = HashFrameFiles(seq.frames[i]);
-    });
+    tbb::parallel_for(0, n, [&](int i) { frame_hash[i] = HashFrameFiles(seq.frames[i]); });
     for (int k = 1; k < n; ++k) {
       keys[k - 1] = cache.Key(frame_hash[k - 1], frame_hash[k]);
       have[k - 1] = cache.Lookup(keys[k - 1], &odometry.pairs[k - 1]);
@@ -334,7 +331,8 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
       pair.frame = k;
       pair.reference = k - 1;
       if (pair.method == AlignmentMethod::kSift) {
-        ScoreOverlap(frames[k - 1 - begin].images.depth, frames[k - begin].images.depth, *seq.intrinsics, options, &clock, &pair);
+        ScoreOverlap(frames[k - 1 - begin].images.depth, frames[k - begin].images.depth, *seq.intrinsics, options,
+                     &clock, &pair);
       }
     });
     // Fallbacks in frame order, so each starts from the final previous motion.
@@ -342,8 +340,8 @@ Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& option
       PairAlignment& pair = odometry.pairs[k - 1];
       if (!have[k - 1] && NeedsFallback(pair, options)) {
         const Rigid3d previous = k > 1 ? odometry.pairs[k - 2].prev_from_curr : Rigid3d::Identity();
-        ApplyFallback(frames[k - 1 - begin].images, frames[k - begin].images, *seq.intrinsics, options,
-                      previous, PriorAge(odometry.pairs, k - 1), &clock, &pair);
+        ApplyFallback(frames[k - 1 - begin].images, frames[k - begin].images, *seq.intrinsics, options, previous,
+                      PriorAge(odometry.pairs, k - 1), &clock, &pair);
       }
       if (!have[k - 1]) progress.Advance();
     }
@@ -368,18 +366,18 @@ nlohmann::json ToJson(const PairAlignment& p) {
   std::vector<double> m(16);
   for (int i = 0; i < 16; ++i) m[i] = p.prev_from_curr.matrix()(i / 4, i % 4);
   nlohmann::json j = {{"frame", p.frame},
-          {"reference", p.Reference()},
-          {"keyframe", p.keyframe},
-          {"method", MethodName(p.method)},
-          {"prev_from_curr", m},
-          {"keypoints_prev", p.keypoints_prev},
-          {"keypoints_curr", p.keypoints_curr},
-          {"matches", p.matches},
-          {"inliers", p.inliers},
-          {"inlier_rmse", p.inlier_rmse},
-          {"fitness", p.fitness},
-          {"degenerate", p.degenerate},
-          {"overlap_rmse", p.overlap_rmse}};
+                      {"reference", p.Reference()},
+                      {"keyframe", p.keyframe},
+                      {"method", MethodName(p.method)},
+                      {"prev_from_curr", m},
+                      {"keypoints_prev", p.keypoints_prev},
+                      {"keypoints_curr", p.keypoints_curr},
+                      {"matches", p.matches},
+                      {"inliers", p.inliers},
+                      {"inlier_rmse", p.inlier_rmse},
+                      {"fitness", p.fitness},
+                      {"degenerate", p.degenerate},
+                      {"overlap_rmse", p.overlap_rmse}};
   if (p.method != AlignmentMethod::kMotionPrior && !p.information.isZero()) {
     std::vector<double> upper;  // row by row, the 21 entries on and above the diagonal
     for (int r = 0; r < 6; ++r) {
@@ -417,7 +415,8 @@ PairAlignment PairAlignmentFromJson(const nlohmann::json& j) {
   // Trust nothing read back: a damaged entry must not become a NaN or sheared trajectory.
   const Eigen::Matrix4d& t = p.prev_from_curr.matrix();
   if (!t.allFinite()) throw std::invalid_argument("prev_from_curr is not finite");
-  if (!t.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1), 1e-12)) throw std::invalid_argument("prev_from_curr's last row is not 0 0 0 1");
+  if (!t.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1), 1e-12))
+    throw std::invalid_argument("prev_from_curr's last row is not 0 0 0 1");
   const Eigen::Matrix3d r = t.topLeftCorner<3, 3>();
   if (!(r.transpose() * r).isApprox(Eigen::Matrix3d::Identity(), 1e-6) || r.determinant() < 0) {
     throw std::invalid_argument("prev_from_curr is not a rotation");
@@ -458,7 +457,8 @@ PairAlignment PairAlignmentFromJson(const nlohmann::json& j) {
     }
   }
   if (!(p.fitness >= 0 && p.fitness <= 1)) throw std::invalid_argument("fitness outside [0, 1]");
-  if (!(std::isfinite(p.inlier_rmse) && p.inlier_rmse >= 0) || !(std::isfinite(p.overlap_rmse) && p.overlap_rmse >= 0)) {
+  if (!(std::isfinite(p.inlier_rmse) && p.inlier_rmse >= 0) ||
+      !(std::isfinite(p.overlap_rmse) && p.overlap_rmse >= 0)) {
     throw std::invalid_argument("an RMSE is negative or not finite");
   }
   return p;

@@ -37,9 +37,9 @@ std::string MethodName(AlignmentMethod method);
 // motion or overlap since the keyframe passes one of these limits, or when tracking fails
 // (then SIFT against the keyframe, then ICP against the previous frame, align it).
 struct KeyframeOdometryOptions {
-  bool enabled = true;            // false: consecutive pairs, every frame with SIFT
-  double max_translation = 0.1;   // metres from the keyframe
-  double max_rotation_deg = 10;   // degrees from the keyframe
+  bool enabled = true;           // false: consecutive pairs, every frame with SIFT
+  double max_translation = 0.1;  // metres from the keyframe
+  double max_rotation_deg = 10;  // degrees from the keyframe
   // Depth overlap with the keyframe (the pair's fitness) below this starts a new keyframe.
   double min_overlap = 0.9;
   // Tracked RANSAC inliers below this share of the keyframe's keypoints start one.
@@ -61,16 +61,22 @@ struct KeyframeOdometryOptions {
     F2C_FIELD(v, enabled, "--keyframes=on|off", {},
               "on: align each frame to the current keyframe by tracking its SIFT keypoints; off: consecutive pairs, "
               "SIFT on every frame");
-    F2C_FIELD(v, max_translation, "--keyframe-translation", Positive(), "a frame this far (m) from its keyframe starts one");
-    F2C_FIELD(v, max_rotation_deg, "--keyframe-rotation", Positive(), "a frame turned this far (deg) from its keyframe starts one");
-    F2C_FIELD(v, min_overlap, "--keyframe-overlap", Between(0, 1), "depth overlap with the keyframe below this starts one");
+    F2C_FIELD(v, max_translation, "--keyframe-translation", Positive(),
+              "a frame this far (m) from its keyframe starts one");
+    F2C_FIELD(v, max_rotation_deg, "--keyframe-rotation", Positive(),
+              "a frame turned this far (deg) from its keyframe starts one");
+    F2C_FIELD(v, min_overlap, "--keyframe-overlap", Between(0, 1),
+              "depth overlap with the keyframe below this starts one");
     F2C_FIELD(v, min_inlier_share, "--keyframe-inlier-share", Between(0, 1),
               "tracked inliers below this share of the keyframe's keypoints start one");
-    F2C_FIELD(v, max_interval, "--keyframe-max-interval", AtLeast(0), "frames after which a new keyframe starts (0: no limit)");
+    F2C_FIELD(v, max_interval, "--keyframe-max-interval", AtLeast(0),
+              "frames after which a new keyframe starts (0: no limit)");
     F2C_FIELD(v, icp_to_keyframe, "--icp-to-keyframe=on|off", {},
               "frames without texture: depth ICP against the keyframe first (on), or against the previous frame (off)");
-    F2C_FIELD(v, velocity_frames, "--velocity-frames", AtLeast(1), "the motion prior is the mean motion over this many frames");
-    F2C_FIELD(v, min_inliers, "--track-min-inliers", AtLeast(3), "fewer tracked inliers: SIFT against the keyframe instead");
+    F2C_FIELD(v, velocity_frames, "--velocity-frames", AtLeast(1),
+              "the motion prior is the mean motion over this many frames");
+    F2C_FIELD(v, min_inliers, "--track-min-inliers", AtLeast(3),
+              "fewer tracked inliers: SIFT against the keyframe instead");
     F2C_NESTED(v, track);
   }
   void Check() const;
@@ -114,7 +120,8 @@ struct OdometryOptions {
     F2C_FIELD(v, relaxed_ratio, "--relaxed-ratio", AboveUpTo(0, 1), "ratio used when few matches pass");
     F2C_FIELD(v, relax_below_matches, "", AtLeast(0), "...fewer than this many");
     F2C_NESTED(v, ransac);
-    F2C_FIELD(v, min_fitness, "--min-fitness", Between(0, 1), "SIFT answers whose depth overlap is lower are checked against ICP");
+    F2C_FIELD(v, min_fitness, "--min-fitness", Between(0, 1),
+              "SIFT answers whose depth overlap is lower are checked against ICP");
     F2C_FIELD(v, min_inliers, "--min-inliers", AtLeast(3), "fewer SIFT inliers fall back to ICP");
     F2C_FIELD(v, fitness_threshold, "", Positive(), "depth overlap: points within this distance (m)");
     F2C_FIELD(v, icp_fallback, "!--no-icp-fallback", {}, "never use depth-only ICP");
@@ -125,19 +132,19 @@ struct OdometryOptions {
 };
 
 struct PairAlignment {
-  int frame = 0;      // k: this pair aligns frame k to frame `reference`
-  int reference = -1;  // < k: k-1 (consecutive pairs), or k's keyframe; -1 (old caches): k-1
+  int frame = 0;          // k: this pair aligns frame k to frame `reference`
+  int reference = -1;     // < k: k-1 (consecutive pairs), or k's keyframe; -1 (old caches): k-1
   bool keyframe = false;  // frame k starts a new keyframe (keyframe odometry)
   // reference_from_frame (the name predates keyframes, when the reference was always k-1).
   Rigid3d prev_from_curr = Rigid3d::Identity();
   AlignmentMethod method = AlignmentMethod::kSift;
   int keypoints_prev = 0, keypoints_curr = 0;  // SIFT keypoints with valid depth
-  int matches = 0;  // after the ratio test (tracked keypoints with valid depth, for kTrack)
+  int matches = 0;                             // after the ratio test (tracked keypoints with valid depth, for kTrack)
   int inliers = 0;                             // RANSAC inliers
   double inlier_rmse = 0;                      // metres
-  double fitness = 0;  // fraction of frame k's depth samples within fitness_threshold of the reference's
+  double fitness = 0;       // fraction of frame k's depth samples within fitness_threshold of the reference's
   double overlap_rmse = 0;  // metres, of those samples
-  int degenerate = 0;  // ICP: directions of motion the reference's geometry left to the previous motion
+  int degenerate = 0;       // ICP: directions of motion the reference's geometry left to the previous motion
   // How precisely the pair's measurements fix prev_from_curr: a left perturbation of
   // prev_from_curr in the reference's coordinates, (w radians, v metres). SIFT and tracked
   // pairs: the RANSAC inliers under the depth noise model (RigidFitInformation,
@@ -164,8 +171,8 @@ int PriorAge(const std::vector<PairAlignment>& pairs, int index);
 struct OdometryTimings {
   double decode = 0, sift = 0, matching = 0, ransac = 0, icp = 0, fitness = 0, hashing = 0, track = 0;
   double wall = 0;
-  int sift_frames = 0;  // frames SIFT described (every decoded frame without keyframes)
-  int keyframes = 0;    // keyframe odometry: frames that started a keyframe (frame 0 included)
+  int sift_frames = 0;       // frames SIFT described (every decoded frame without keyframes)
+  int keyframes = 0;         // keyframe odometry: frames that started a keyframe (frame 0 included)
   int frames_processed = 0;  // frames decoded and described (not all, on a cache hit)
   int pairs_computed = 0;
   int pairs_cached = 0;
@@ -198,18 +205,15 @@ Odometry AlignFrames(const RgbdSequence& sequence, const OdometryOptions& option
 // Each frame to the current keyframe, in frame order (decoding runs ahead in parallel).
 // Pairs are cached by the chain of all frames' bytes up to theirs (a keyframe decision
 // depends on every earlier frame), so a run reuses the longest prefix computed before.
-Odometry AlignWithKeyframes(const RgbdSequence& sequence, const OdometryOptions& options,
-                            const OdometryRun& run = {});
+Odometry AlignWithKeyframes(const RgbdSequence& sequence, const OdometryOptions& options, const OdometryRun& run = {});
 
 // Aligns every consecutive pair of `sequence` (intrinsics required) in parallel.
-Odometry AlignConsecutive(const RgbdSequence& sequence, const OdometryOptions& options,
-                          const OdometryRun& run = {});
+Odometry AlignConsecutive(const RgbdSequence& sequence, const OdometryOptions& options, const OdometryRun& run = {});
 
 // Aligns one pair of frames already decoded (depth in metres); used by AlignConsecutive and
 // tests. `previous_motion` seeds ICP.
-PairAlignment AlignPair(const cv::Mat& gray_prev, const cv::Mat& depth_prev,
-                        const cv::Mat& gray_curr, const cv::Mat& depth_curr,
-                        const CameraIntrinsics& intrinsics, const OdometryOptions& options,
+PairAlignment AlignPair(const cv::Mat& gray_prev, const cv::Mat& depth_prev, const cv::Mat& gray_curr,
+                        const cv::Mat& depth_curr, const CameraIntrinsics& intrinsics, const OdometryOptions& options,
                         const Rigid3d& previous_motion, uint64_t seed);
 
 // The frames that started a keyframe (frame 0 first); empty without keyframe odometry.

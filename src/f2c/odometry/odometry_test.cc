@@ -203,8 +203,9 @@ TEST(AlignConsecutive, MissingIntrinsicsIsAnInputError) {
     AlignConsecutive(seq, OdometryOptions());
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), dir.string() + ": no intrinsics: pass --intrinsics (a preset: "
-                                                     "tum-fr1, tum-fr2, tum-fr3, primesense; or fx,fy,cx,cy)");
+    EXPECT_EQ(std::string(e.what()), dir.string() +
+                                         ": no intrinsics: pass --intrinsics (a preset: "
+                                         "tum-fr1, tum-fr2, tum-fr3, primesense; or fx,fy,cx,cy)");
   }
 }
 

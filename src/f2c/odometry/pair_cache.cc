@@ -36,8 +36,7 @@ PairCache::PairCache(std::filesystem::path path, std::string context)
 }
 
 std::string PairCache::Key(uint64_t prev_frame_hash, uint64_t curr_frame_hash) const {
-  return HexString(context_hash_ ^ (prev_frame_hash * 0x9E3779B97F4A7C15ULL)) +
-         HexString(curr_frame_hash);
+  return HexString(context_hash_ ^ (prev_frame_hash * 0x9E3779B97F4A7C15ULL)) + HexString(curr_frame_hash);
 }
 
 bool PairCache::Lookup(const std::string& key, PairAlignment* pair) const {
@@ -48,7 +47,8 @@ bool PairCache::Lookup(const std::string& key, PairAlignment* pair) const {
     return true;
   } catch (const std::exception& e) {
     // Recomputed; said once per cache, not once per damaged entry.
-    if (!warned_.exchange(true)) spdlog::warn("{}: a cached pair is damaged ({}); recomputing it", path_.string(), e.what());
+    if (!warned_.exchange(true))
+      spdlog::warn("{}: a cached pair is damaged ({}); recomputing it", path_.string(), e.what());
     return false;
   }
 }

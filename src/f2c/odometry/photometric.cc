@@ -68,8 +68,8 @@ struct Normal {
 };
 
 Normal Accumulate(const std::vector<Point>& points, const Level& frame, const CameraIntrinsics& k,
-                  const Eigen::Matrix<double, 6, Eigen::Dynamic>& b_dirs, double lever, double bias,
-                  double huber, const Rigid3d& t) {
+                  const Eigen::Matrix<double, 6, Eigen::Dynamic>& b_dirs, double lever, double bias, double huber,
+                  const Rigid3d& t) {
   const int m = static_cast<int>(b_dirs.cols());
   Normal out;
   out.h = Eigen::MatrixXd::Zero(m + 1, m + 1);

@@ -35,8 +35,8 @@ struct PhotometricOptions {
   // truth in 20 ms a pair, as close as sigmas 4, 2, 1 with strides 4, 2, 2 in 75 ms.
   std::vector<double> blur_sigmas{4.0, 2.0};
   std::vector<int> strides{8, 4};
-  int iterations = 10;         // Gauss-Newton steps per level at most
-  double huber = 10.0;         // grey levels; larger residuals (occlusion, specularity) count linearly
+  int iterations = 10;  // Gauss-Newton steps per level at most
+  double huber = 10.0;  // grey levels; larger residuals (occlusion, specularity) count linearly
 
   template <class V>
   void Fields(V& v) {

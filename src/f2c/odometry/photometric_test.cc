@@ -60,9 +60,8 @@ TEST(AlignPhotometric, RecoversTheMotionsThePlainWallsDepthLeavesFree) {
   const Rigid3d start = wall.Moved(wall.free * Eigen::Vector3d(0.02, -0.015, 0.01));
   ASSERT_GT((start.translation() - wall.truth.translation()).norm(), 0.01);
   Rigid3d estimate = start;
-  const PhotometricResult r = AlignPhotometric(Gray(wall.reference.color), wall.reference.depth,
-                                               Gray(wall.frame.color), wall.k, wall.free, wall.lever,
-                                               PhotometricOptions(), &estimate);
+  const PhotometricResult r = AlignPhotometric(Gray(wall.reference.color), wall.reference.depth, Gray(wall.frame.color),
+                                               wall.k, wall.free, wall.lever, PhotometricOptions(), &estimate);
   ASSERT_TRUE(r.ok);
   EXPECT_LT(r.rmse_after, 0.5 * r.rmse_before);
   EXPECT_LT((estimate.translation() - wall.truth.translation()).norm(), 0.001);

@@ -11,9 +11,7 @@
 namespace f2c {
 namespace {
 
-std::filesystem::path Data(const std::string& name) {
-  return std::filesystem::path(F2C_SHARED_DATA_DIR) / name;
-}
+std::filesystem::path Data(const std::string& name) { return std::filesystem::path(F2C_SHARED_DATA_DIR) / name; }
 
 // T0 of the first `frames` frames of a TUM fr1 folder, and its error against motion capture.
 struct T0Run {

@@ -56,8 +56,8 @@ TrackedPoints TrackKeypoints(const TrackingKeyframe& keyframe, const cv::Mat& gr
   if (options.max_forward_backward > 0) {
     back = from;
     std::vector<float> back_error;
-    cv::calcOpticalFlowPyrLK(gray, keyframe.pyramid, to, back, back_status, back_error, window,
-                             options.pyramid_levels, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+    cv::calcOpticalFlowPyrLK(gray, keyframe.pyramid, to, back, back_status, back_error, window, options.pyramid_levels,
+                             stop, cv::OPTFLOW_USE_INITIAL_FLOW);
   }
   const double max_correction2 = options.max_correction * options.max_correction;
   const double max_fb2 = options.max_forward_backward * options.max_forward_backward;

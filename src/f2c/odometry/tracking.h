@@ -21,8 +21,8 @@
 namespace f2c {
 
 struct TrackOptions {
-  int window = 21;          // LK window (pixels, odd)
-  int pyramid_levels = 3;   // levels above the image (OpenCV's maxLevel)
+  int window = 21;         // LK window (pixels, odd)
+  int pyramid_levels = 3;  // levels above the image (OpenCV's maxLevel)
   int max_lk_iterations = 30;
   double lk_epsilon = 0.01;  // pixels
   // A track whose start (the prediction) and end differ by more than this (pixels) is
@@ -39,7 +39,8 @@ struct TrackOptions {
     F2C_FIELD(v, pyramid_levels, "--track-levels", Between(0, 8), "Lucas-Kanade pyramid levels above the image");
     F2C_FIELD(v, max_lk_iterations, "", AtLeast(1), "Lucas-Kanade iterations");
     F2C_FIELD(v, lk_epsilon, "", Positive(), "Lucas-Kanade convergence (pixels)");
-    F2C_FIELD(v, max_correction, "", Positive(), "tracks moved farther than this from the prediction are dropped (pixels)");
+    F2C_FIELD(v, max_correction, "", Positive(),
+              "tracks moved farther than this from the prediction are dropped (pixels)");
     F2C_FIELD(v, max_forward_backward, "--track-forward-backward", AtLeast(0),
               "drop tracks that do not return within this many pixels (0: no check)");
   }
@@ -49,10 +50,10 @@ struct TrackOptions {
 // What tracking needs of a keyframe, prepared once and reused for every frame tracked from it.
 struct TrackingKeyframe {
   int frame = -1;
-  SiftFeatures sift;            // keypoints (pixels) and their 3D points
+  SiftFeatures sift;             // keypoints (pixels) and their 3D points
   std::vector<cv::Mat> pyramid;  // cv::buildOpticalFlowPyramid of its grey image
-  cv::Mat depth;                // metres
-  cv::Mat gray;                 // 8-bit (the depth fallback's photometric alignment)
+  cv::Mat depth;                 // metres
+  cv::Mat gray;                  // 8-bit (the depth fallback's photometric alignment)
 };
 
 TrackingKeyframe MakeTrackingKeyframe(int frame, const cv::Mat& gray, cv::Mat depth, SiftFeatures sift,
@@ -60,7 +61,7 @@ TrackingKeyframe MakeTrackingKeyframe(int frame, const cv::Mat& gray, cv::Mat de
 
 struct TrackedPoints {
   std::vector<Eigen::Vector3d> keyframe, frame;  // matched 3D points, camera coordinates
-  int tracked = 0;  // keypoints LK followed (before the depth test)
+  int tracked = 0;                               // keypoints LK followed (before the depth test)
 };
 
 // Tracks `keyframe`'s keypoints into the frame (`gray` 8-bit, `depth` metres), starting each

@@ -86,7 +86,7 @@ struct ChildProxy {
   float offset = 0;                                   // plane {x : normal . x = offset}
   Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
   Eigen::Matrix3f covariance = Eigen::Matrix3f::Zero();  // of the members (m^2)
-  float share = 1;  // relative weight within E_P: the proxy's m_j (its inliers)
+  float share = 1;                                       // relative weight within E_P: the proxy's m_j (its inliers)
 };
 
 struct PlaneEstimate {

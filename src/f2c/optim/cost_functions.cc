@@ -27,8 +27,6 @@ Matrix34 RotationDerivative(const double* q, const Eigen::Vector3d& v) {
   return d;
 }
 
-
-
 void EvaluateConstraint(ConstraintKind kind, const PosePair& poses, const Eigen::Vector3d& target_point,
                         const Eigen::Vector3d& target_direction, const Eigen::Vector3d& point, bool jacobians,
                         ConstraintRows* out) {
@@ -84,7 +82,11 @@ void EvaluateConstraint(ConstraintKind kind, const PosePair& poses, const Eigen:
 }
 
 PosePair::PosePair(double const* const* parameters)
-    : q_a(parameters[0]), t_a(parameters[1]), q_b(parameters[2]), t_b(parameters[3]),
-      m_a(RotationPolynomial(parameters[0])), m_b(RotationPolynomial(parameters[2])) {}
+    : q_a(parameters[0]),
+      t_a(parameters[1]),
+      q_b(parameters[2]),
+      t_b(parameters[3]),
+      m_a(RotationPolynomial(parameters[0])),
+      m_b(RotationPolynomial(parameters[2])) {}
 
 }  // namespace f2c

@@ -39,7 +39,8 @@ struct PointToPlaneCost {
   template <typename T>
   bool operator()(const T* rotation_a, const T* translation_a, const T* rotation_b, const T* translation_b,
                   T* residual) const {
-    const Eigen::Matrix<T, 3, 1> p_b = PointFromBIntoA(rotation_a, translation_a, rotation_b, translation_b, point_in_b_);
+    const Eigen::Matrix<T, 3, 1> p_b =
+        PointFromBIntoA(rotation_a, translation_a, rotation_b, translation_b, point_in_b_);
     residual[0] = normal_in_a_.cast<T>().dot(p_b - point_in_a_.cast<T>());
     return true;
   }
@@ -66,7 +67,8 @@ struct PointToLineCost {
   template <typename T>
   bool operator()(const T* rotation_a, const T* translation_a, const T* rotation_b, const T* translation_b,
                   T* residual) const {
-    const Eigen::Matrix<T, 3, 1> p_b = PointFromBIntoA(rotation_a, translation_a, rotation_b, translation_b, point_in_b_);
+    const Eigen::Matrix<T, 3, 1> p_b =
+        PointFromBIntoA(rotation_a, translation_a, rotation_b, translation_b, point_in_b_);
     const Eigen::Matrix<T, 3, 1> r = (p_b - point_in_a_.cast<T>()).cross(direction_in_a_.cast<T>());
     residual[0] = r[0];
     residual[1] = r[1];
@@ -96,8 +98,8 @@ struct PointToLineCost {
 // radians to the units the energy compares them in, metres at a lever arm of s_r / s_t).
 struct RelativePoseCost {
   using Matrix6d = Eigen::Matrix<double, 6, 6>;
-  RelativePoseCost(const Eigen::Quaterniond& measured_rotation_a_from_b, const Eigen::Vector3d& measured_translation_a_from_b,
-                   const Matrix6d& sqrt_information)
+  RelativePoseCost(const Eigen::Quaterniond& measured_rotation_a_from_b,
+                   const Eigen::Vector3d& measured_translation_a_from_b, const Matrix6d& sqrt_information)
       : rotation_inverse_(measured_rotation_a_from_b.conjugate()),
         translation_(measured_translation_a_from_b),
         sqrt_information_(sqrt_information) {}
@@ -213,7 +215,8 @@ struct PointToPointCost {
   }
 
   static ceres::CostFunction* Create(const Eigen::Vector3d& point_in_a, const Eigen::Vector3d& point_in_b) {
-    return new ceres::AutoDiffCostFunction<PointToPointCost, 3, 4, 3, 4, 3>(new PointToPointCost(point_in_a, point_in_b));
+    return new ceres::AutoDiffCostFunction<PointToPointCost, 3, 4, 3, 4, 3>(
+        new PointToPointCost(point_in_a, point_in_b));
   }
 
  private:
@@ -246,8 +249,8 @@ struct PoseChangeCost {
   static ceres::CostFunction* Create(const Eigen::Quaterniond& previous_rotation,
                                      const Eigen::Vector3d& previous_translation, double sqrt_weight_translation,
                                      double sqrt_weight_rotation) {
-    return new ceres::AutoDiffCostFunction<PoseChangeCost, 6, 4, 3>(new PoseChangeCost(
-        previous_rotation, previous_translation, sqrt_weight_translation, sqrt_weight_rotation));
+    return new ceres::AutoDiffCostFunction<PoseChangeCost, 6, 4, 3>(
+        new PoseChangeCost(previous_rotation, previous_translation, sqrt_weight_translation, sqrt_weight_rotation));
   }
 
  private:

@@ -52,8 +52,7 @@ TEST_F(CostFunctions, PointToPlaneHandComputed) {
   a_ = Pose();
   b_ = Pose();
   b_.translation = Eigen::Vector3d(0, 0, 0.1);
-  std::unique_ptr<ceres::CostFunction> cost(
-      PointToPlaneCost::Create({0, 0, 1}, {0, 0, 1}, {0.3, 0.2, 1.05}));
+  std::unique_ptr<ceres::CostFunction> cost(PointToPlaneCost::Create({0, 0, 1}, {0, 0, 1}, {0.3, 0.2, 1.05}));
   // p_b in the world is (0.3, 0.2, 1.15): 0.15 m above the plane z = 1.
   EXPECT_NEAR(Residuals(*cost, Blocks())[0], 0.15, 1e-12);
 }
@@ -86,8 +85,8 @@ TEST_F(CostFunctions, PointToLineHandComputed) {
 
 TEST_F(CostFunctions, RelativePoseVanishesAtTheMeasurement) {
   const Rigid3d a_from_b = a_.ToRigid().inverse() * b_.ToRigid();
-  std::unique_ptr<ceres::CostFunction> cost(RelativePoseCost::Create(
-      Eigen::Quaterniond(a_from_b.linear()), a_from_b.translation(), 3.0, 5.0));
+  std::unique_ptr<ceres::CostFunction> cost(
+      RelativePoseCost::Create(Eigen::Quaterniond(a_from_b.linear()), a_from_b.translation(), 3.0, 5.0));
   for (double r : Residuals(*cost, Blocks())) EXPECT_NEAR(r, 0.0, 1e-12);
   // The same relative motion anywhere in the world: still zero.
   const Rigid3d moved = Pose{Eigen::Quaterniond(Eigen::AngleAxisd(1.0, Eigen::Vector3d::UnitY())), {4, 5, 6}}.ToRigid();
@@ -158,8 +157,8 @@ TEST_F(CostFunctions, SteadyMotionVanishesForAConstantVelocity) {
   b_.translation = a_.translation + step;
   c.rotation = b_.rotation * turn;
   c.translation = b_.translation + step;
-  std::vector<double*> blocks = {a_.rotation_data(), a_.translation_data(), b_.rotation_data(),
-                                 b_.translation_data(), c.rotation_data(),  c.translation_data()};
+  std::vector<double*> blocks = {a_.rotation_data(),    a_.translation_data(), b_.rotation_data(),
+                                 b_.translation_data(), c.rotation_data(),     c.translation_data()};
   std::unique_ptr<ceres::CostFunction> cost(SteadyMotionCost::Create(1.0, 1.0, 2.0, 3.0));
   for (double r : Residuals(*cost, blocks)) EXPECT_NEAR(r, 0.0, 1e-12);
   // The second interval twice as long (a dropped frame): twice the turn and the step, scaled
@@ -171,7 +170,7 @@ TEST_F(CostFunctions, SteadyMotionVanishesForAConstantVelocity) {
   // Read as one interval, the same poses are a jolt.
   const std::vector<double> jolt = Residuals(*cost, blocks);
   EXPECT_NEAR(jolt[0], 2.0 * 0.02, 1e-12);  // one more step of 0.02 m along x, at s_t = 2
-  const std::vector<const ceres::Manifold*> manifolds = {&quaternion_, nullptr, &quaternion_,
+  const std::vector<const ceres::Manifold*> manifolds = {&quaternion_, nullptr,      &quaternion_,
                                                          nullptr,      &quaternion_, nullptr};
   ExpectJacobiansMatch(*cost, blocks, manifolds);
   ExpectJacobiansMatch(*gap, blocks, manifolds);
@@ -184,8 +183,8 @@ TEST_F(CostFunctions, SteadyMotionHandComputed) {
   Pose c;
   c.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()));
   c.translation = Eigen::Vector3d(0.05, 0, 0);
-  std::vector<double*> blocks = {a_.rotation_data(), a_.translation_data(), b_.rotation_data(),
-                                 b_.translation_data(), c.rotation_data(),  c.translation_data()};
+  std::vector<double*> blocks = {a_.rotation_data(),    a_.translation_data(), b_.rotation_data(),
+                                 b_.translation_data(), c.rotation_data(),     c.translation_data()};
   std::unique_ptr<ceres::CostFunction> cost(SteadyMotionCost::Create(1.0, 0.5, 2.0, 3.0));
   const std::vector<double> r = Residuals(*cost, blocks);
   EXPECT_NEAR(r[0], 2.0 * 0.5 * 0.05, 1e-12);

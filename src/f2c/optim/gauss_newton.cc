@@ -89,7 +89,8 @@ cholmod_sparse UpperView(int n, std::vector<int>* p, std::vector<int>* i, std::v
 class Pattern {
  public:
   // `free_vars`: each residual block's free variables.
-  Pattern(const std::vector<std::vector<int>>& free_vars, const std::vector<int>& start, const std::vector<int>& tangent)
+  Pattern(const std::vector<std::vector<int>>& free_vars, const std::vector<int>& start,
+          const std::vector<int>& tangent)
       : start_(start), tangent_(tangent) {
     const int nv = static_cast<int>(start.size());
     rows_.resize(nv);
@@ -203,7 +204,8 @@ class Pattern {
  private:
   // Rows within a column ascend (block rows in order, each block's rows in order).
   size_t DiagonalIndex(int c) const {
-    const auto first = row_indices_.begin() + column_pointers_[c], last = row_indices_.begin() + column_pointers_[c + 1];
+    const auto first = row_indices_.begin() + column_pointers_[c],
+               last = row_indices_.begin() + column_pointers_[c + 1];
     return static_cast<size_t>(std::lower_bound(first, last, c) - row_indices_.begin());
   }
 
@@ -352,7 +354,7 @@ bool Linearise(const GaussNewtonResidual& res, const std::vector<int>& vars, con
 }  // namespace
 
 GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidual>& residuals,
-                                            const GaussNewtonOptions& options) const {
+                                             const GaussNewtonOptions& options) const {
   const int nv = static_cast<int>(variables_.size());
   std::vector<int> start(nv, -1), size(nv), tangent(nv, 0);
   int columns = 0;

@@ -105,7 +105,8 @@ struct SmallProblem {
       const Eigen::Vector3d t = poses[i].rotation.conjugate() * (poses[i + 1].translation - poses[i].translation) +
                                 0.1 * Eigen::Vector3d(g(rng), g(rng), g(rng));
       costs.emplace_back(RelativePoseCost::Create(q, t, 1.0, 1.0));
-      residuals.push_back({costs.back().get(), i == 1 ? losses[0].get() : nullptr,
+      residuals.push_back({costs.back().get(),
+                           i == 1 ? losses[0].get() : nullptr,
                            {poses[i].rotation_data(), poses[i].translation_data(), poses[i + 1].rotation_data(),
                             poses[i + 1].translation_data()}});
     }
@@ -118,7 +119,8 @@ struct SmallProblem {
     plane << n, 0.4;
     Eigen::Matrix3d spread = Eigen::Matrix3d::Identity() * 0.2;
     costs.emplace_back(ProxyFitCost::Create(Eigen::Vector3d(0.1, -0.2, 1.5), spread));
-    residuals.push_back({costs.back().get(), nullptr, {poses[2].rotation_data(), poses[2].translation_data(), plane.data()}});
+    residuals.push_back(
+        {costs.back().get(), nullptr, {poses[2].rotation_data(), poses[2].translation_data(), plane.data()}});
     costs.emplace_back(PlaneChangeCost::Create(Eigen::Vector3d(0.25, 0.3, 0.88).normalized(), 0.35, 1.0, 1.0));
     residuals.push_back({costs.back().get(), nullptr, {plane.data()}});
   }
@@ -259,13 +261,14 @@ struct ChainProblem {
       for (int k = 1; k <= 2 && i + k < n; ++k) {
         const Pose& a = poses[i];
         const Pose& b = poses[i + k];
-        const Eigen::Quaterniond q =
-            (a.rotation.conjugate() * b.rotation * Eigen::Quaterniond(Eigen::AngleAxisd(0.02 * g(rng), Eigen::Vector3d::UnitY())))
-                .normalized();
+        const Eigen::Quaterniond q = (a.rotation.conjugate() * b.rotation *
+                                      Eigen::Quaterniond(Eigen::AngleAxisd(0.02 * g(rng), Eigen::Vector3d::UnitY())))
+                                         .normalized();
         const Eigen::Vector3d t =
             a.rotation.conjugate() * (b.translation - a.translation) + 0.05 * Eigen::Vector3d(g(rng), g(rng), g(rng));
         costs.emplace_back(RelativePoseCost::Create(q, t, 1.0, 1.0));
-        residuals.push_back({costs.back().get(), (i + k) % 3 == 0 ? &loss : nullptr,
+        residuals.push_back({costs.back().get(),
+                             (i + k) % 3 == 0 ? &loss : nullptr,
                              {poses[i].rotation_data(), poses[i].translation_data(), poses[i + k].rotation_data(),
                               poses[i + k].translation_data()}});
       }
@@ -336,9 +339,10 @@ TEST(GaussNewton, ASupernodalFactorGivesCeresStep) {
     std::vector<GaussNewtonResidual> residuals;
     for (size_t k = 0; k < costs.size(); ++k) {
       const auto [a, b] = frames[k];
-      residuals.push_back({costs[k].get(), (a + b) % 5 == 0 ? &loss : nullptr,
-                           {(*p)[a].rotation_data(), (*p)[a].translation_data(), (*p)[b].rotation_data(),
-                            (*p)[b].translation_data()}});
+      residuals.push_back(
+          {costs[k].get(),
+           (a + b) % 5 == 0 ? &loss : nullptr,
+           {(*p)[a].rotation_data(), (*p)[a].translation_data(), (*p)[b].rotation_data(), (*p)[b].translation_data()}});
     }
     return residuals;
   };

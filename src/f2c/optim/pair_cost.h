@@ -22,7 +22,8 @@
 namespace f2c {
 
 enum class RobustLoss { kNone, kHuber, kCauchy };
-F2C_ENUM_NAMES(RobustLoss, {{RobustLoss::kNone, "none"}, {RobustLoss::kHuber, "huber"}, {RobustLoss::kCauchy, "cauchy"}})
+F2C_ENUM_NAMES(RobustLoss,
+               {{RobustLoss::kNone, "none"}, {RobustLoss::kHuber, "huber"}, {RobustLoss::kCauchy, "cauchy"}})
 
 // rho(s) and rho'(s) of a loss with scale c (residual units): none s; Huber s up to c^2, then
 // 2 c sqrt(s) - c^2; Cauchy c^2 log(1 + s / c^2).
@@ -30,8 +31,8 @@ void EvaluateLoss(RobustLoss loss, double scale, double s, double* rho, double* 
 
 struct PairConstraint {
   ConstraintKind kind = ConstraintKind::kPointToPlane;
-  double weight = 1;  // w_i: the residual is scaled by sqrt(w_i) before the loss
-  Eigen::Vector3d target_point = Eigen::Vector3d::Zero();      // frame a
+  double weight = 1;                                       // w_i: the residual is scaled by sqrt(w_i) before the loss
+  Eigen::Vector3d target_point = Eigen::Vector3d::Zero();  // frame a
   Eigen::Vector3d target_direction = Eigen::Vector3d::Zero();  // frame a (planes, lines)
   Eigen::Vector3d point = Eigen::Vector3d::Zero();             // frame b
 };
@@ -40,16 +41,15 @@ struct PairConstraint {
 // which the IRLS weights are taken.
 class PairCost final : public ceres::CostFunction {
  public:
-  PairCost(std::vector<PairConstraint> constraints, RobustLoss loss, double scale,
-           double const* const* parameters);
+  PairCost(std::vector<PairConstraint> constraints, RobustLoss loss, double scale, double const* const* parameters);
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
   // sum_i 1/2 w_i rho(|r_i|^2) at `parameters`.
   double RobustCost(double const* const* parameters) const;
 
  private:
   std::vector<PairConstraint> constraints_;
-  std::vector<int> offsets_;            // first residual row of each constraint
-  std::vector<double> sqrt_weights_;    // sqrt(w_i rho'(s_i)) at construction
+  std::vector<int> offsets_;          // first residual row of each constraint
+  std::vector<double> sqrt_weights_;  // sqrt(w_i rho'(s_i)) at construction
   RobustLoss loss_;
   double scale_;
 };

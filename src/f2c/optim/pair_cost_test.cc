@@ -14,7 +14,9 @@ namespace {
 struct Fixture {
   Pose a, b;
   std::vector<PairConstraint> constraints;
-  std::vector<double*> Blocks() { return {a.rotation_data(), a.translation_data(), b.rotation_data(), b.translation_data()}; }
+  std::vector<double*> Blocks() {
+    return {a.rotation_data(), a.translation_data(), b.rotation_data(), b.translation_data()};
+  }
 };
 
 // Poses and constraints of every kind with residuals from millimetres to decimetres, so a
@@ -34,7 +36,8 @@ Fixture MakeFixture() {
     c.target_point = Eigen::Vector3d(g(rng), g(rng), 2 + g(rng));
     c.target_direction = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
     // The point frame b sees, offset from the target by 1 mm .. 20 cm.
-    const Eigen::Vector3d world = f.a.ToRigid() * c.target_point + 0.001 * std::pow(1.6, i) * Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+    const Eigen::Vector3d world = f.a.ToRigid() * c.target_point +
+                                  0.001 * std::pow(1.6, i) * Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
     c.point = f.b.ToRigid().inverse() * world;
     f.constraints.push_back(c);
   }
@@ -43,9 +46,12 @@ Fixture MakeFixture() {
 
 ceres::CostFunction* Single(const PairConstraint& c) {
   switch (c.kind) {
-    case ConstraintKind::kPointToPlane: return PointToPlaneCost::Create(c.target_point, c.target_direction, c.point);
-    case ConstraintKind::kPointToLine: return PointToLineCost::Create(c.target_point, c.target_direction, c.point);
-    case ConstraintKind::kPointToPoint: return PointToPointCost::Create(c.target_point, c.point);
+    case ConstraintKind::kPointToPlane:
+      return PointToPlaneCost::Create(c.target_point, c.target_direction, c.point);
+    case ConstraintKind::kPointToLine:
+      return PointToLineCost::Create(c.target_point, c.target_direction, c.point);
+    case ConstraintKind::kPointToPoint:
+      return PointToPointCost::Create(c.target_point, c.point);
   }
   return nullptr;
 }
@@ -56,8 +62,8 @@ void ReferenceCostAndGradient(Fixture& f, double* cost, std::vector<double>* gra
   po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(po);
   for (const PairConstraint& c : f.constraints) {
-    problem.AddResidualBlock(Single(c), new ceres::ScaledLoss(new ceres::CauchyLoss(0.02), c.weight, ceres::TAKE_OWNERSHIP),
-                             f.Blocks());
+    problem.AddResidualBlock(
+        Single(c), new ceres::ScaledLoss(new ceres::CauchyLoss(0.02), c.weight, ceres::TAKE_OWNERSHIP), f.Blocks());
   }
   ceres::Problem::EvaluateOptions eo;
   eo.parameter_blocks = f.Blocks();
@@ -75,7 +81,8 @@ TEST(PairCost, RobustCostAndGradientEqualCeresLossesAtTheLinearisationPoint) {
   // IRLS: J'^T r' = sum w rho'(s) J^T r, the robust gradient.
   ceres::Problem::Options po;
   ceres::Problem problem(po);
-  problem.AddResidualBlock(new PairCost(f.constraints, RobustLoss::kCauchy, 0.02, f.Blocks().data()), nullptr, f.Blocks());
+  problem.AddResidualBlock(new PairCost(f.constraints, RobustLoss::kCauchy, 0.02, f.Blocks().data()), nullptr,
+                           f.Blocks());
   ceres::Problem::EvaluateOptions eo;
   eo.parameter_blocks = f.Blocks();
   double irls_cost;

@@ -23,20 +23,18 @@
 
 namespace f2c {
 
-void SolverOptions::Check() const {
-  CheckFields(*this);
-}
+void SolverOptions::Check() const { CheckFields(*this); }
 
 namespace {
 
-constexpr const char* kTermC = "E_C";
-constexpr const char* kTermL = "E_L";
-constexpr const char* kTermV = "E_V";
-constexpr const char* kTermI = "E_I";
-constexpr const char* kTermM = "E_M";
-constexpr const char* kTermP = "E_P";
-constexpr const char* kTermH = "E_H";
-constexpr const char* kTermG = "E_G";
+constexpr Term kTermC = Term::kC;
+constexpr Term kTermL = Term::kL;
+constexpr Term kTermV = Term::kV;
+constexpr Term kTermI = Term::kI;
+constexpr Term kTermM = Term::kM;
+constexpr Term kTermP = Term::kP;
+constexpr Term kTermH = Term::kH;
+constexpr Term kTermG = Term::kG;
 
 // A term's Cauchy scale where some of its constraints have a scale of their own (0: none):
 // the tighter of the two holds for those.
@@ -90,8 +88,8 @@ class PoseProblem {
     variables_[index_.at(pose->rotation_data())].constant = true;
     variables_[index_.at(pose->translation_data())].constant = true;
   }
-  void Add(const std::string& term, ceres::CostFunction* cost, ceres::LossFunction* loss,
-           std::vector<double*> blocks, bool structure = false) {
+  void Add(Term term, ceres::CostFunction* cost, ceres::LossFunction* loss, std::vector<double*> blocks,
+           bool structure = false) {
     costs_.emplace_back(cost);
     terms_[term].push_back(residuals_.size());
     Residual r;
@@ -102,16 +100,15 @@ class PoseProblem {
     residuals_.push_back(std::move(r));
   }
   // A term of the structural model: also in the plane problem, where the poses are constant.
-  void AddStructure(const std::string& term, ceres::CostFunction* cost, ceres::LossFunction* loss,
-                    std::vector<double*> blocks) {
+  void AddStructure(Term term, ceres::CostFunction* cost, ceres::LossFunction* loss, std::vector<double*> blocks) {
     Add(term, cost, loss, std::move(blocks), true);
   }
   // A batched pair block: its term's cost is its robust cost, not Ceres' (IRLS) one.
-  void AddPair(const std::string& term, PairCost* cost, std::vector<double*> blocks) {
+  void AddPair(Term term, PairCost* cost, std::vector<double*> blocks) {
     pair_blocks_.insert(term);
     Add(term, cost, nullptr, std::move(blocks));
   }
-  ceres::LossFunction* Loss(RobustLoss type, double scale, double weight, const std::string& term) {
+  ceres::LossFunction* Loss(RobustLoss type, double scale, double weight, Term term) {
     auto& slot = losses_[{term, weight}];
     if (!slot) slot = MakeLoss(type, scale, weight);
     return slot.get();
@@ -124,7 +121,7 @@ class PoseProblem {
     double sqrt_weight;
     ceres::LossFunction* loss;
   };
-  Weighting Weigh(double weight, double cauchy_scale, const std::string& term) {
+  Weighting Weigh(double weight, double cauchy_scale, Term term) {
     if (cauchy_scale > 0) return {1.0, Loss(RobustLoss::kCauchy, cauchy_scale, weight, term)};
     return {std::sqrt(weight), nullptr};
   }
@@ -132,8 +129,8 @@ class PoseProblem {
   // parallel: the cost functions are evaluated directly (no Jacobians), which reads the
   // parameters and changes nothing. Summed in order, so the numbers do not depend on the
   // threads.
-  std::map<std::string, double> TermCosts() const {
-    std::map<std::string, double> costs;
+  std::map<Term, double> TermCosts() const {
+    std::map<Term, double> costs;
     for (const auto& entry : terms_) {
       const std::vector<size_t>& list = entry.second;  // not a structured binding: the lambda captures it
       std::vector<double> block_cost(list.size(), 0.0);
@@ -159,8 +156,8 @@ class PoseProblem {
     }
     return costs;
   }
-  std::map<std::string, int> Counts() const {
-    std::map<std::string, int> counts;
+  std::map<Term, int> Counts() const {
+    std::map<Term, int> counts;
     for (const auto& [term, list] : terms_) counts[term] = static_cast<int>(list.size());
     return counts;
   }
@@ -228,11 +225,11 @@ class PoseProblem {
   PlaneManifold plane_manifold_;
   std::vector<Variable> variables_;
   std::unordered_map<const double*, int> index_;
-  std::map<std::pair<std::string, double>, std::unique_ptr<ceres::LossFunction>> losses_;
+  std::map<std::pair<Term, double>, std::unique_ptr<ceres::LossFunction>> losses_;
   std::vector<std::unique_ptr<ceres::CostFunction>> costs_;
-  std::vector<Residual> residuals_;  // in the order they were added
-  std::map<std::string, std::vector<size_t>> terms_;  // each term's residuals_
-  std::set<std::string> pair_blocks_;  // terms of batched pair blocks
+  std::vector<Residual> residuals_;            // in the order they were added
+  std::map<Term, std::vector<size_t>> terms_;  // each term's residuals_
+  std::set<Term> pair_blocks_;                 // terms of batched pair blocks
 };
 
 }  // namespace
@@ -288,18 +285,22 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       F2C_CHECK(c.target_frame >= 0 && c.target_frame < n && c.point_frame >= 0 && c.point_frame < n,
                 "correspondence frames in range");
     }
-    by_pair = GroupByKey(correspondences.size(), [&](size_t i) {
-      return PairKey{correspondences[i].target_frame, correspondences[i].point_frame};
-    }, [&](size_t i) {
-      const FeatureCorrespondence& c = correspondences[i];
-      PairConstraint pc;
-      pc.kind = c.kind == CorrespondenceKind::kPointToPlane ? ConstraintKind::kPointToPlane : ConstraintKind::kPointToLine;
-      pc.weight = options.weight_correspondence * c.weight / sum_c;
-      pc.target_point = c.target_point.cast<double>();
-      pc.target_direction = c.target_direction.cast<double>();
-      pc.point = c.point.cast<double>();
-      return pc;
-    });
+    by_pair = GroupByKey(
+        correspondences.size(),
+        [&](size_t i) {
+          return PairKey{correspondences[i].target_frame, correspondences[i].point_frame};
+        },
+        [&](size_t i) {
+          const FeatureCorrespondence& c = correspondences[i];
+          PairConstraint pc;
+          pc.kind = c.kind == CorrespondenceKind::kPointToPlane ? ConstraintKind::kPointToPlane
+                                                                : ConstraintKind::kPointToLine;
+          pc.weight = options.weight_correspondence * c.weight / sum_c;
+          pc.target_point = c.target_point.cast<double>();
+          pc.target_direction = c.target_direction.cast<double>();
+          pc.point = c.point.cast<double>();
+          return pc;
+        });
   }
   for (auto& [key, list] : by_pair) {
     const std::vector<double*> b = blocks(key.first, key.second);
@@ -313,9 +314,11 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   for (const RelativePoseConstraint& l : local) {
     if (options.weight_local == 0 || sum_l <= 0) break;
     F2C_CHECK(l.frame_a >= 0 && l.frame_a < n && l.frame_b >= 0 && l.frame_b < n, "local frames in range");
-    const bool weak = options.measured_local_loss_max_inliers == 0 || l.weakest_inliers < options.measured_local_loss_max_inliers;
-    const double scale = l.measured && weak ? TighterLossScale(options.local_loss_scale, options.measured_local_loss_scale)
-                                            : options.local_loss_scale;
+    const bool weak =
+        options.measured_local_loss_max_inliers == 0 || l.weakest_inliers < options.measured_local_loss_max_inliers;
+    const double scale = l.measured && weak
+                             ? TighterLossScale(options.local_loss_scale, options.measured_local_loss_scale)
+                             : options.local_loss_scale;
     const auto [s, loss] = pp.Weigh(options.weight_local * l.weight / sum_l, scale, kTermL);
     ceres::CostFunction* cost =
         l.whitened()
@@ -335,10 +338,11 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
     Pose& pa = (*poses)[v.frame_a];
     Pose& pb = (*poses)[v.frame_b];
     Pose& pc = (*poses)[v.frame_c];
-    std::vector<double*> b{pa.rotation_data(), pa.translation_data(), pb.rotation_data(),
-                           pb.translation_data(), pc.rotation_data(), pc.translation_data()};
-    const double scale = v.measured ? TighterLossScale(options.velocity_loss_scale, options.measured_velocity_loss_scale)
-                                    : options.velocity_loss_scale;
+    std::vector<double*> b{pa.rotation_data(),    pa.translation_data(), pb.rotation_data(),
+                           pb.translation_data(), pc.rotation_data(),    pc.translation_data()};
+    const double scale = v.measured
+                             ? TighterLossScale(options.velocity_loss_scale, options.measured_velocity_loss_scale)
+                             : options.velocity_loss_scale;
     const auto [s, loss] = pp.Weigh(w_v * v.weight, scale, kTermV);
     pp.Add(kTermV, SteadyMotionCost::Create(v.scale_ab, v.scale_bc, s, s * options.rotation_lever_arm), loss,
            std::move(b));
@@ -351,16 +355,19 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
     for (const PointMatch& m : matches) {
       F2C_CHECK(m.frame_a >= 0 && m.frame_a < n && m.frame_b >= 0 && m.frame_b < n, "match frames in range");
     }
-    by_pair = GroupByKey(matches.size(), [&](size_t i) {
-      return PairKey{matches[i].frame_a, matches[i].frame_b};
-    }, [&](size_t i) {
-      PairConstraint pc;
-      pc.kind = ConstraintKind::kPointToPoint;
-      pc.weight = options.weight_match / n;
-      pc.target_point = matches[i].point_a.cast<double>();
-      pc.point = matches[i].point_b.cast<double>();
-      return pc;
-    });
+    by_pair = GroupByKey(
+        matches.size(),
+        [&](size_t i) {
+          return PairKey{matches[i].frame_a, matches[i].frame_b};
+        },
+        [&](size_t i) {
+          PairConstraint pc;
+          pc.kind = ConstraintKind::kPointToPoint;
+          pc.weight = options.weight_match / n;
+          pc.target_point = matches[i].point_a.cast<double>();
+          pc.point = matches[i].point_b.cast<double>();
+          return pc;
+        });
   }
   for (auto& [key, list] : by_pair) {
     const std::vector<double*> b = blocks(key.first, key.second);
@@ -389,8 +396,7 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       pp.AddStructure(kTermP,
                       ProxyFitCost::Create(c.centroid.cast<double>(), s * SqrtCovariance(c.covariance.cast<double>()),
                                            children[i].reference),
-                      nullptr,
-                      {pose.rotation_data(), pose.translation_data(), children[i].data()});
+                      nullptr, {pose.rotation_data(), pose.translation_data(), children[i].data()});
     }
     for (size_t i = 0; i < parents.size(); ++i) {
       const Eigen::Vector3d normal = structure.parents[i].normal.normalized();
@@ -410,8 +416,9 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
       PlaneVariable& p = parents[l.parent];
       const auto [s, loss] =
           pp.Weigh(options.weight_coplanarity * l.weight * l.agreement / sum_h, options.coplanarity_loss_scale, kTermH);
-      pp.AddStructure(kTermH, CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, s, c.reference, p.reference),
-                      loss, {c.data(), p.data()});
+      pp.AddStructure(kTermH,
+                      CoplanarityCost::Create(l.anchor, options.rotation_lever_arm, s, c.reference, p.reference), loss,
+                      {c.data(), p.data()});
     }
     // E_G: w_G w_ab / sum(w) per relation.
     double sum_g = 0;
@@ -526,11 +533,27 @@ SolveSummary SolvePoses(const Constraints& constraints, const SolverOptions& opt
   return summary;
 }
 
+namespace {
+
+template <class T>
+nlohmann::json ByTermName(const std::map<Term, T>& values) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [term, value] : values) out[NameOf(term)] = value;
+  return out;
+}
+
+}  // namespace
+
 nlohmann::json ToJson(const SolveSummary& s) {
-  return {{"cost_before", s.cost_before}, {"cost_after", s.cost_after}, {"residual_blocks", s.residual_blocks},
-          {"iterations", s.iterations}, {"linear_iterations", s.linear_iterations},
-          {"plane_presolve_iterations", s.plane_presolve_iterations}, {"damped_steps", s.damped_steps},
-          {"termination", s.termination}, {"usable", s.usable},
+  return {{"cost_before", ByTermName(s.cost_before)},
+          {"cost_after", ByTermName(s.cost_after)},
+          {"residual_blocks", ByTermName(s.residual_blocks)},
+          {"iterations", s.iterations},
+          {"linear_iterations", s.linear_iterations},
+          {"plane_presolve_iterations", s.plane_presolve_iterations},
+          {"damped_steps", s.damped_steps},
+          {"termination", s.termination},
+          {"usable", s.usable},
           {"seconds", s.seconds}};
 }
 

@@ -142,17 +142,20 @@ struct SolverOptions {
     F2C_FIELD(v, weight_correspondence, "--weight-correspondence", AtLeast(0), "w_C, E_C's total weight");
     F2C_FIELD(v, weight_local, "--weight-local", AtLeast(0), "w_L, E_L's total weight");
     F2C_FIELD(v, weight_inertia, "--weight-inertia", AtLeast(0), "w_I, E_I's total weight");
-    F2C_FIELD(v, rotation_lever_arm, "--rotation-lever-arm", Positive(), "E_L/E_I compare rotations at this distance (m/rad)");
+    F2C_FIELD(v, rotation_lever_arm, "--rotation-lever-arm", Positive(),
+              "E_L/E_I compare rotations at this distance (m/rad)");
     F2C_FIELD(v, local_loss_scale, "--local-loss-scale", AtLeast(0), "Cauchy scale of E_L (m; 0: least squares)");
-    F2C_FIELD(v, measured_local_loss_scale, "--measured-local-loss-scale", AtLeast(0),
-              "Cauchy scale of E_L's pairs measured in every direction (m; 0: as --local-loss-scale; the tighter holds)");
+    F2C_FIELD(
+        v, measured_local_loss_scale, "--measured-local-loss-scale", AtLeast(0),
+        "Cauchy scale of E_L's pairs measured in every direction (m; 0: as --local-loss-scale; the tighter holds)");
     F2C_FIELD(v, measured_local_loss_max_inliers, "--measured-local-loss-max-inliers", AtLeast(0),
               "...only where the weakest SIFT or tracked pair on the path had fewer RANSAC inliers (0: all)");
     F2C_FIELD(v, weight_velocity, "--weight-velocity", AtLeast(0),
               "w_V, E_V's total weight (steady motion over consecutive frames; 0: off, the paper)");
     F2C_FIELD(v, velocity_loss_scale, "--velocity-loss-scale", AtLeast(0), "Cauchy scale of E_V (m; 0: least squares)");
     F2C_FIELD(v, measured_velocity_loss_scale, "--measured-velocity-loss-scale", AtLeast(0),
-              "Cauchy scale of E_V's triples whose pairs measured every direction (m; 0: as --velocity-loss-scale; the tighter holds)");
+              "Cauchy scale of E_V's triples whose pairs measured every direction (m; 0: as --velocity-loss-scale; the "
+              "tighter holds)");
     F2C_FIELD(v, weight_match, "--weight-match", AtLeast(0), "w_M: each SIFT loop match weighs w_M / frames");
     F2C_FIELD(v, match_loss_scale, "--match-loss-scale", Positive(), "Cauchy scale of E_M (m)");
     F2C_FIELD(v, loss, "--loss", {}, "robust loss of E_C: none, huber, cauchy");
@@ -172,7 +175,8 @@ struct SolverOptions {
     F2C_FIELD(v, weight_proxy, "--weight-proxy", AtLeast(0), "w_P, E_P's total weight (children fit their images)");
     F2C_FIELD(v, weight_coplanarity, "--weight-coplanarity", AtLeast(0),
               "w_H, E_H's total weight (children coplanar with parents)");
-    F2C_FIELD(v, coplanarity_loss_scale, "--coplanarity-loss-scale", AtLeast(0), "Cauchy scale of E_H (m; 0: least squares)");
+    F2C_FIELD(v, coplanarity_loss_scale, "--coplanarity-loss-scale", AtLeast(0),
+              "Cauchy scale of E_H (m; 0: least squares)");
     F2C_FIELD(v, weight_relation, "--weight-relation", AtLeast(0),
               "w_G, E_G's total weight (parallel/antiparallel/orthogonal parents)");
     F2C_FIELD(v, relation_loss_scale_deg, "--relation-loss-scale", AtLeast(0),
@@ -183,12 +187,24 @@ struct SolverOptions {
   void Check() const;
 };
 
+// The energy's terms (above), named as run.json and the report name them; declared in the
+// order of their names, so that a map over them iterates (and sums) as one over the names.
+enum class Term { kC, kG, kH, kI, kL, kM, kP, kV };
+F2C_ENUM_NAMES(Term, {{Term::kC, "E_C"},
+                      {Term::kG, "E_G"},
+                      {Term::kH, "E_H"},
+                      {Term::kI, "E_I"},
+                      {Term::kL, "E_L"},
+                      {Term::kM, "E_M"},
+                      {Term::kP, "E_P"},
+                      {Term::kV, "E_V"}})
+
 struct SolveSummary {
   // Weighted cost of each term (Ceres' 1/2 sum of robustified squares), before and after.
-  std::map<std::string, double> cost_before, cost_after;
-  std::map<std::string, int> residual_blocks;
-  int iterations = 0;          // steps tried (ours), or Ceres iterations
-  std::string termination;     // ours ("iteration limit", "step rejected", ...) or Ceres' termination type
+  std::map<Term, double> cost_before, cost_after;
+  std::map<Term, int> residual_blocks;
+  int iterations = 0;       // steps tried (ours), or Ceres iterations
+  std::string termination;  // ours ("iteration limit", "step rejected", ...) or Ceres' termination type
   bool usable = false;
   int linear_iterations = 0;  // conjugate-gradient iterations, summed (iterative solver)
   int plane_presolve_iterations = 0;

@@ -21,10 +21,10 @@ TEST(SolvePoses, TermWeightsAreTotalsSharedAmongResiduals) {
   SolverOptions options;
   options.weight_local = 300;
   const SolveSummary s = SolvePoses({{}, local, {}, {}, {}}, options, &poses);
-  EXPECT_NEAR(s.cost_before.at("E_L"), 0.5 * 300 * 0.01, 1e-9);
+  EXPECT_NEAR(s.cost_before.at(Term::kL), 0.5 * 300 * 0.01, 1e-9);
   // E_I starts at zero and ends small; E_L almost vanishes.
-  EXPECT_NEAR(s.cost_before.at("E_I"), 0.0, 1e-15);
-  EXPECT_LT(s.cost_after.at("E_L"), 1e-4);
+  EXPECT_NEAR(s.cost_before.at(Term::kI), 0.0, 1e-15);
+  EXPECT_LT(s.cost_after.at(Term::kL), 1e-4);
 
   // Through a Cauchy loss of scale c the reported cost is the robust one:
   // w_L / 2 * c^2 log(1 + 0.1^2 / c^2).
@@ -32,7 +32,7 @@ TEST(SolvePoses, TermWeightsAreTotalsSharedAmongResiduals) {
   poses[1].translation = Eigen::Vector3d(1.1, 0, 0);
   options.local_loss_scale = 0.05;
   const SolveSummary robust = SolvePoses({{}, local, {}, {}, {}}, options, &poses);
-  EXPECT_NEAR(robust.cost_before.at("E_L"), 0.5 * 300 * 0.0025 * std::log(1 + 0.01 / 0.0025), 1e-9);
+  EXPECT_NEAR(robust.cost_before.at(Term::kL), 0.5 * 300 * 0.0025 * std::log(1 + 0.01 / 0.0025), 1e-9);
 }
 
 // Two whitened constraints on one pair of frames, each measuring what the other does not:
@@ -45,8 +45,8 @@ TEST(SolvePoses, WhitenedLocalConstraintsTakeEachDirectionFromTheOneThatMeasured
   poses[1].rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.025, Eigen::Vector3d::UnitZ()));
   RelativePoseConstraint moves{0, 1, Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 0, 0), 1.0};
   moves.sqrt_information.diagonal() << 10, 10, 10, 10, 10, 0.01;
-  RelativePoseConstraint turns{
-      0, 1, Eigen::Quaterniond(Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ())), Eigen::Vector3d(1.2, 0, 0), 1.0};
+  RelativePoseConstraint turns{0, 1, Eigen::Quaterniond(Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ())),
+                               Eigen::Vector3d(1.2, 0, 0), 1.0};
   turns.sqrt_information.diagonal() << 0.01, 0.01, 0.01, 10, 10, 10;
   SolverOptions options;
   options.fix_first_pose = true;
@@ -86,7 +86,7 @@ TEST(SolvePoses, SteadyMotionTurnsBackAFrameThatOneWrongPairTurned) {
 
   PoseVector poses = truth;
   SolveSummary s = SolvePoses({{}, links(truth), {}, {}, steady}, {}, &poses);
-  EXPECT_LT(s.cost_before.at("E_V"), 1e-20);
+  EXPECT_LT(s.cost_before.at(Term::kV), 1e-20);
 
   SolverOptions options;
   options.solve = SolveMode::kConverge;
@@ -100,7 +100,7 @@ TEST(SolvePoses, SteadyMotionTurnsBackAFrameThatOneWrongPairTurned) {
   options.weight_velocity = 100;  // the default, as E_L's
   poses = measured;
   s = SolvePoses({{}, links(measured), {}, {}, steady}, options, &poses);
-  EXPECT_GT(s.cost_before.at("E_V"), s.cost_after.at("E_V"));
+  EXPECT_GT(s.cost_before.at(Term::kV), s.cost_after.at(Term::kV));
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n - 3, n - 1);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * n - 3);
   auto column = [](int frame) { return frame - 1; };  // x_0 is held at 0
@@ -149,7 +149,8 @@ TEST(SolvePoses, MeasuredLocalLossLetsAWeakWrongPairGo) {
         RelativePoseConstraint l{a, b, Eigen::Quaterniond(a_from_b.linear()), a_from_b.translation(), 1.0};
         l.weakest_inliers = 200;
         if (a == 1 && b == 2) {
-          l.rotation_a_from_b = l.rotation_a_from_b * Eigen::AngleAxisd(wrong_deg * M_PI / 180, Eigen::Vector3d::UnitZ());
+          l.rotation_a_from_b =
+              l.rotation_a_from_b * Eigen::AngleAxisd(wrong_deg * M_PI / 180, Eigen::Vector3d::UnitZ());
           l.translation_a_from_b += Eigen::Vector3d(0.01 * wrong_deg, 0, 0);
           l.measured = wrong_measured;
           l.weakest_inliers = wrong_inliers;
@@ -181,13 +182,14 @@ TEST(SolvePoses, MeasuredLocalLossLetsAWeakWrongPairGo) {
   const double weak = solve(make(true, 20, 3.0), robust);
   const double strong = solve(make(true, 200, 3.0), robust);
   const double unmeasured = solve(make(false, 20, 3.0), robust);
-  std::printf("frames 1 -> 2 turned (deg): least squares %.3f; loss: weak pair %.3f, strong pair %.3f, unmeasured %.3f\n",
-              ls, weak, strong, unmeasured);
+  std::printf(
+      "frames 1 -> 2 turned (deg): least squares %.3f; loss: weak pair %.3f, strong pair %.3f, unmeasured %.3f\n", ls,
+      weak, strong, unmeasured);
   // Least squares: the pair's 3 deg split between it and the links that disagree with it.
   EXPECT_GT(ls, 0.5);
   EXPECT_LT(ls, 2.5);
   EXPECT_LT(weak, 0.25 * ls);
-  EXPECT_NEAR(strong, ls, 1e-6);  // every link has 200 inliers: least squares, exactly
+  EXPECT_NEAR(strong, ls, 1e-6);      // every link has 200 inliers: least squares, exactly
   EXPECT_NEAR(unmeasured, ls, 1e-6);  // the weak link is not measured, the others are strong
   // With no wrong pair the loss leaves the truth alone: started 0.2 deg off, frame 2 comes back.
   PoseVector poses = truth;

@@ -24,15 +24,17 @@ Scene MakeScene(int n) {
   for (int i = 0; i < n; ++i) {
     const double angle = 0.15 * i;
     Pose pose;
-    pose.rotation = Eigen::AngleAxisd(-2.3 + angle, Eigen::Vector3d::UnitZ()) *
-                    Eigen::AngleAxisd(-1.9, Eigen::Vector3d::UnitX());
+    pose.rotation =
+        Eigen::AngleAxisd(-2.3 + angle, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(-1.9, Eigen::Vector3d::UnitX());
     pose.translation = Eigen::Vector3d(0.3 * std::cos(angle), 0.3 * std::sin(angle), 1.4);
     scene.truth.push_back(pose);
   }
   return scene;
 }
 
-Eigen::Vector3d InCamera(const Pose& pose, const Eigen::Vector3d& x) { return pose.rotation.conjugate() * (x - pose.translation); }
+Eigen::Vector3d InCamera(const Pose& pose, const Eigen::Vector3d& x) {
+  return pose.rotation.conjugate() * (x - pose.translation);
+}
 
 // Exact correspondences between every pair of frames: points on each plane and on the two
 // wall-floor edges, each frame sampling its own points.
@@ -64,7 +66,9 @@ std::vector<FeatureCorrespondence> ExactCorrespondences(const Scene& scene, std:
       for (int k = 0; k < 6; ++k) {
         const bool along_y = k % 2 == 0;
         const Eigen::Vector3d direction = along_y ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
-        auto on_edge = [&]() -> Eigen::Vector3d { return along_y ? Eigen::Vector3d(-2.0, u(rng), 0) : Eigen::Vector3d(u(rng), -2.5, 0); };
+        auto on_edge = [&]() -> Eigen::Vector3d {
+          return along_y ? Eigen::Vector3d(-2.0, u(rng), 0) : Eigen::Vector3d(u(rng), -2.5, 0);
+        };
         FeatureCorrespondence c;
         c.target_frame = a;
         c.point_frame = b;
@@ -85,7 +89,8 @@ PoseVector Perturb(const PoseVector& truth, double metres, double radians, std::
   PoseVector out = truth;
   for (size_t i = 1; i < out.size(); ++i) {
     out[i].translation += metres * Eigen::Vector3d(g(rng), g(rng), g(rng));
-    out[i].rotation = out[i].rotation * Eigen::Quaterniond(Eigen::AngleAxisd(radians, Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized()));
+    out[i].rotation = out[i].rotation * Eigen::Quaterniond(Eigen::AngleAxisd(
+                                            radians, Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized()));
   }
   return out;
 }
@@ -114,8 +119,8 @@ TEST(SolvePoses, CorrespondencesAloneRecoverPerturbedPoses) {
   ASSERT_TRUE(s.usable) << s.termination;
   EXPECT_LT(MaxTranslationError(poses, scene.truth), 1e-4);
   EXPECT_LT(MaxRotationErrorDeg(poses, scene.truth), 0.01);
-  EXPECT_LT(s.cost_after.at("E_C"), 1e-10);
-  EXPECT_EQ(s.residual_blocks.at("E_C"), 6 * 5);  // one block per ordered pair of frames
+  EXPECT_LT(s.cost_after.at(Term::kC), 1e-10);
+  EXPECT_EQ(s.residual_blocks.at(Term::kC), 6 * 5);  // one block per ordered pair of frames
 }
 
 // One point-to-plane correspondence between two frames, frame 0 held (w_I 0): five of frame
@@ -138,12 +143,12 @@ TEST(SolvePoses, ASingularStepFallsBackToCeres) {
   const SolveSummary s = SolvePoses({{c}, {}, {}, {}, {}}, options, &poses);
   ASSERT_TRUE(s.usable);
   EXPECT_EQ(s.termination, "NO_CONVERGENCE");  // Ceres' word: it solved
-  EXPECT_LE(s.cost_after.at("E_C"), s.cost_before.at("E_C"));
+  EXPECT_LE(s.cost_after.at(Term::kC), s.cost_before.at(Term::kC));
   options.solve = SolveMode::kConverge;
   const SolveSummary converged = SolvePoses({{c}, {}, {}, {}, {}}, options, &poses);
   ASSERT_TRUE(converged.usable);
-  EXPECT_LT(converged.cost_after.at("E_C"), 0.5 * converged.cost_before.at("E_C"));  // measured 0.39 of it
-  EXPECT_EQ(poses[0].translation, scene.truth[0].translation);  // held
+  EXPECT_LT(converged.cost_after.at(Term::kC), 0.5 * converged.cost_before.at(Term::kC));  // measured 0.39 of it
+  EXPECT_EQ(poses[0].translation, scene.truth[0].translation);                             // held
 }
 
 TEST(SolvePoses, LocalConstraintsAtTheTruthCostNothing) {
@@ -155,7 +160,7 @@ TEST(SolvePoses, LocalConstraintsAtTheTruthCostNothing) {
   }
   PoseVector poses = scene.truth;
   SolveSummary s = SolvePoses({{}, local, {}, {}, {}}, {}, &poses);
-  EXPECT_LT(s.cost_before.at("E_L"), 1e-20);
+  EXPECT_LT(s.cost_before.at(Term::kL), 1e-20);
   EXPECT_LT(MaxTranslationError(poses, scene.truth), 1e-9);
   // From perturbed poses, the chain of relative transforms alone brings them back (the first
   // pose is the gauge).
@@ -217,7 +222,7 @@ TEST(SolvePoses, OneGaussNewtonStepReducesTheCost) {
   options.solve = SolveMode::kOneStep;
   const SolveSummary s = SolvePoses({c, {}, {}, {}, {}}, options, &poses);
   EXPECT_EQ(s.iterations, 1);
-  EXPECT_LT(s.cost_after.at("E_C"), 0.05 * s.cost_before.at("E_C"));
+  EXPECT_LT(s.cost_after.at(Term::kC), 0.05 * s.cost_before.at(Term::kC));
 }
 
 // A child proxy of `frame` from a 2 m x 1.5 m wall patch: the points world(y, z), y in
@@ -256,21 +261,24 @@ TEST(SolvePoses, ARelationBetweenParentsTurnsAFrameBack) {
   PoseVector truth(2);
   truth[0].translation = Eigen::Vector3d(1.5, 0, 1.2);
   truth[1].translation = Eigen::Vector3d(1.4, 0.5, 1.2);
-  truth[0].rotation = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ());
+  truth[0].rotation =
+      Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ());
   truth[1].rotation = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY());
   const Eigen::Vector3d normals[2] = {Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitX()};  // facing the cameras
   const double offsets[2] = {0.0, -3.0};
   Constraints constraints;
   for (int f = 0; f < 2; ++f) {
     // The wall's members, in frame f's camera.
-    constraints.structure.children.push_back(PatchChild(
-        f, truth[f], normals[f], [&](double y, double z) { return Eigen::Vector3d(offsets[f] * normals[f].x(), y, z); }));
+    constraints.structure.children.push_back(PatchChild(f, truth[f], normals[f], [&](double y, double z) {
+      return Eigen::Vector3d(offsets[f] * normals[f].x(), y, z);
+    }));
   }
   PoseVector start = truth;
   start[1].rotation = Eigen::AngleAxisd(2 * M_PI / 180, Eigen::Vector3d::UnitZ()) * truth[1].rotation;
   for (int f = 0; f < 2; ++f) {
     const Eigen::Vector3d n = start[f].rotation * constraints.structure.children[f].normal.cast<double>();
-    const Eigen::Vector3d centre = start[f].rotation * constraints.structure.children[f].centroid.cast<double>() + start[f].translation;
+    const Eigen::Vector3d centre =
+        start[f].rotation * constraints.structure.children[f].centroid.cast<double>() + start[f].translation;
     constraints.structure.parents.push_back({n, n.dot(centre), centre});
     constraints.structure.links.push_back({f, f, centre, 1.0f});
   }
@@ -285,9 +293,9 @@ TEST(SolvePoses, ARelationBetweenParentsTurnsAFrameBack) {
   PoseVector with = start;
   const SolveSummary s = SolvePoses(constraints, options, &with);
   ASSERT_TRUE(s.usable);
-  EXPECT_GT(s.cost_before.at("E_G"), 0);
+  EXPECT_GT(s.cost_before.at(Term::kG), 0);
   // E_G at 10 against the inertia (1, the default) of the frame and the planes.
-  EXPECT_LT(s.cost_after.at("E_G"), 0.05 * s.cost_before.at("E_G"));
+  EXPECT_LT(s.cost_after.at(Term::kG), 0.05 * s.cost_before.at(Term::kG));
   EXPECT_LT(error_deg(with), 0.3) << "started 2 deg off";  // measured 0.21
 
   // Through a Cauchy loss of scale c (--relation-loss-scale) the reported cost is the robust
@@ -324,7 +332,7 @@ TEST(SolvePoses, ARelationBetweenParentsTurnsAFrameBack) {
   }
   const double c = M_PI / 180;
   const double r2 = (constraints.structure.parents[0].normal + constraints.structure.parents[1].normal).squaredNorm();
-  EXPECT_NEAR(r.cost_before.at("E_G"), 0.5 * 10 * c * c * std::log(1 + r2 / (c * c)), 1e-12);
+  EXPECT_NEAR(r.cost_before.at(Term::kG), 0.5 * 10 * c * c * std::log(1 + r2 / (c * c)), 1e-12);
   std::printf("frame 1 off after one step (deg): least squares %.3f, Cauchy 1 deg %.3f\n", error_deg(step_poses),
               error_deg(robust_poses));
   EXPECT_GT(error_deg(robust_poses), error_deg(step_poses) + 0.2);
@@ -348,7 +356,8 @@ TEST(SolvePoses, RobustCoplanarityLetsAMisfittedChildGo) {
   PoseVector truth(n);
   for (int f = 0; f < n; ++f) {
     truth[f].translation = Eigen::Vector3d(1.5, 0.4 * f - 0.4, 1.2);
-    truth[f].rotation = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ());
+    truth[f].rotation =
+        Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ());
   }
   // The wall x = 0 (normal +x, facing the cameras at x = 1.5); frame 2 measures it turned by
   // `tilt` about the vertical, as a merged proxy would.
@@ -366,7 +375,8 @@ TEST(SolvePoses, RobustCoplanarityLetsAMisfittedChildGo) {
     constraints.structure.parents.push_back({Eigen::Vector3d::UnitX(), 0.0, centre});
     for (int f = 0; f < n; ++f) {
       constraints.structure.links.push_back(
-          {f, 0, truth[f].rotation * constraints.structure.children[f].centroid.cast<double>() + truth[f].translation, 1.0f});
+          {f, 0, truth[f].rotation * constraints.structure.children[f].centroid.cast<double>() + truth[f].translation,
+           1.0f});
     }
     for (int f = 0; f + 1 < n; ++f) {
       RelativePoseConstraint l;
@@ -407,8 +417,8 @@ TEST(SolvePoses, RobustCoplanarityLetsAMisfittedChildGo) {
   const SolveSummary full = SolvePoses(misfit, least_squares, &reference);
   const SolveSummary part = SolvePoses(discounted, least_squares, &agreed);
   ASSERT_TRUE(part.usable);
-  EXPECT_GT(full.cost_before.at("E_H"), 0);
-  EXPECT_NEAR(part.cost_before.at("E_H"), 0.1 * full.cost_before.at("E_H"), 1e-6 * full.cost_before.at("E_H"));
+  EXPECT_GT(full.cost_before.at(Term::kH), 0);
+  EXPECT_NEAR(part.cost_before.at(Term::kH), 0.1 * full.cost_before.at(Term::kH), 1e-6 * full.cost_before.at(Term::kH));
   EXPECT_LT(error_deg(agreed), 0.5 * error_deg(ls));
 
   const Constraints exact = make(0.0);

@@ -15,9 +15,12 @@ Eigen::Matrix3d SqrtCovariance(const Eigen::Matrix3d& covariance) {
 
 const char* RelationTypeName(RelationType type) {
   switch (type) {
-    case RelationType::kParallel: return "parallel";
-    case RelationType::kAntiparallel: return "antiparallel";
-    case RelationType::kOrthogonal: return "orthogonal";
+    case RelationType::kParallel:
+      return "parallel";
+    case RelationType::kAntiparallel:
+      return "antiparallel";
+    case RelationType::kOrthogonal:
+      return "orthogonal";
   }
   return "?";
 }

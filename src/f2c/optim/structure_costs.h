@@ -81,8 +81,8 @@ Eigen::Matrix3d SqrtCovariance(const Eigen::Matrix3d& covariance);
 // Zero exactly when the planes coincide (same normal, and the child's centre on the parent).
 // All residuals are multiplied by `scale` (the square root of the link's weight).
 struct CoplanarityCost {
-  CoplanarityCost(const Eigen::Vector3d& anchor, double lever_arm, double scale,
-                  const Eigen::Vector3d& child_reference, const Eigen::Vector3d& parent_reference)
+  CoplanarityCost(const Eigen::Vector3d& anchor, double lever_arm, double scale, const Eigen::Vector3d& child_reference,
+                  const Eigen::Vector3d& parent_reference)
       : anchor_(anchor), lever_(lever_arm), scale_(scale), child_ref_(child_reference), parent_ref_(parent_reference) {}
 
   template <typename T>

@@ -146,7 +146,8 @@ TEST_F(StructureCosts, PlaneChangeVanishesAtThePreviousPlaneAndMeasuresTheChange
 TEST_F(StructureCosts, ReferencePointsOnlyMoveWhereOffsetsAreMeasuredFrom) {
   std::mt19937 rng(5);
   Pose pose = RandomPose(rng);
-  Eigen::Vector3d n = Eigen::Vector3d(0.2, 0.9, -0.3).normalized(), n_p = Eigen::Vector3d(0.25, 0.88, -0.3).normalized();
+  Eigen::Vector3d n = Eigen::Vector3d(0.2, 0.9, -0.3).normalized(),
+                  n_p = Eigen::Vector3d(0.25, 0.88, -0.3).normalized();
   double d = 1.3, d_p = 1.25;
   const Members members = MembersOf(pose, n, d, rng, 0.01);
   const Eigen::Vector3d x0(0.5, -1, 2), x0_p(3, 1, -1), anchor(1, 1, 1);

@@ -33,7 +33,7 @@ inline std::vector<double> Residuals(const ceres::CostFunction& cost, std::vecto
 // The AutoDiff Jacobian of every block equals central differences of the residuals over the
 // block's ambient coordinates (step h), and Ceres' GradientChecker agrees on the manifold.
 inline void ExpectJacobiansMatch(const ceres::CostFunction& cost, std::vector<double*> blocks,
-                          const std::vector<const ceres::Manifold*>& manifolds) {
+                                 const std::vector<const ceres::Manifold*>& manifolds) {
   const int m = cost.num_residuals();
   const std::vector<int32_t>& sizes = cost.parameter_block_sizes();
   std::vector<std::vector<double>> jacobians(sizes.size());

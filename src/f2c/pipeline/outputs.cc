@@ -107,7 +107,11 @@ json RunJson(const RegisterResult& r, const RegisterOptions& options, const Outp
       {"layout", LayoutName(seq.layout)},
       {"frames", seq.frames.size()},
       {"intrinsics",
-       {{"fx", k.fx}, {"fy", k.fy}, {"cx", k.cx}, {"cy", k.cy}, {"distortion", k.distortion},
+       {{"fx", k.fx},
+        {"fy", k.fy},
+        {"cx", k.cx},
+        {"cy", k.cy},
+        {"distortion", k.distortion},
         {"source", seq.intrinsics_source}}},
       {"versions", Versions()},
       {"preset", NameOf(options.preset)},
@@ -153,7 +157,8 @@ std::vector<std::string> WriteOutputs(const fs::path& dir, const RegisterResult&
   const std::vector<std::string> names = OutputNames(dir, r, options, outputs);
   const json run = RunJson(r, options, outputs, names);
   WriteFileAtomic(dir / "run.json", run.dump(2) + "\n");
-  if (outputs.report) WriteFileAtomic(dir / "report.html", RegisterReport(r, run["input"].get<std::string>(), run["options"].dump(2)));
+  if (outputs.report)
+    WriteFileAtomic(dir / "report.html", RegisterReport(r, run["input"].get<std::string>(), run["options"].dump(2)));
   return names;
 }
 

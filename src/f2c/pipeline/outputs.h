@@ -13,11 +13,11 @@
 namespace f2c {
 
 struct OutputOptions {
-  bool report = true;            // report.html
-  bool iterations = false;       // iterations/iteration_NN.txt (with RegisterOptions::keep_iterations)
-  std::string input;             // what run.json names as the input (default: the sequence's root)
-  IoOptions io;                  // how the input was read, for run.json's options
-  nlohmann::json options;        // run.json's "options" (null: io's and the stages' options)
+  bool report = true;       // report.html
+  bool iterations = false;  // iterations/iteration_NN.txt (with RegisterOptions::keep_iterations)
+  std::string input;        // what run.json names as the input (default: the sequence's root)
+  IoOptions io;             // how the input was read, for run.json's options
+  nlohmann::json options;   // run.json's "options" (null: io's and the stages' options)
 };
 
 // Versions of fine2coarse and its main libraries, for run.json.

@@ -94,13 +94,13 @@ RefineStage Refine(const RegisterResult& r, const RegisterOptions& options, Feat
   RefineRun run;
   run.quiet = options.quiet;
   run.keep_iterations = options.keep_iterations;
-  stage.result = RefineFineToCoarse(*features->index, r.odometry.pairs, initial, *r.sequence.intrinsics,
-                                    options.refine, run, std::move(keyframes));
+  stage.result = RefineFineToCoarse(*features->index, r.odometry.pairs, initial, *r.sequence.intrinsics, options.refine,
+                                    run, std::move(keyframes));
   stage.peak_memory_bytes_after = PeakResidentBytes();
   const double frames = static_cast<double>(r.sequence.frames.size());
-  Log(options, fmt::format("refinement: {} iterations in {:.1f} s ({:.1f} ms per frame)",
-                           stage.result.iterations.size(), stage.result.seconds + stage.index_s,
-                           1000.0 * (stage.result.seconds + stage.index_s) / frames));
+  Log(options,
+      fmt::format("refinement: {} iterations in {:.1f} s ({:.1f} ms per frame)", stage.result.iterations.size(),
+                  stage.result.seconds + stage.index_s, 1000.0 * (stage.result.seconds + stage.index_s) / frames));
   return stage;
 }
 
@@ -159,8 +159,8 @@ RegisterResult Register(RgbdSequence sequence, const RegisterOptions& options) {
   if (seq.frames.size() < 2) ThrowInputError(seq.root, "registration needs at least 2 frames");
   RequireIntrinsics(seq);
   if (options.initial_poses && options.initial_poses->size() != seq.frames.size()) {
-    ThrowInputError("--initial-trajectory", fmt::format("{} poses for {} frames", options.initial_poses->size(),
-                                                        seq.frames.size()));
+    ThrowInputError("--initial-trajectory",
+                    fmt::format("{} poses for {} frames", options.initial_poses->size(), seq.frames.size()));
   }
 
   // 1. Odometry, sharing what it decodes with the features and the loop matcher's keyframes.
@@ -230,7 +230,8 @@ PoseList PosesFor(const RgbdSequence& sequence, const fs::path& source, const Io
   for (const RgbdFrame& f : sequence.frames) times.push_back(f.timestamp);
   std::optional<RgbdSequence> dataset;
   // A dataset folder gives its ground truth; a file (.conf too) is read as a trajectory.
-  const Trajectory given = fs::is_directory(source) ? LoadGroundTruth(source, io, &dataset) : ReadTrajectoryFile(source);
+  const Trajectory given =
+      fs::is_directory(source) ? LoadGroundTruth(source, io, &dataset) : ReadTrajectoryFile(source);
   return PosesForFrames(given, times, source);
 }
 

@@ -47,10 +47,10 @@ struct RegisterOptions {
   // odometry's relative poses. `initial_name` names them in run.json.
   std::optional<PoseList> initial_poses;
   std::string initial_name = "T0";
-  bool keep_iterations = false;  // RefineResult::iteration_poses
-  int threads = 0;               // worker threads (0: all cores); the result does not depend on it
-  bool quiet = false;            // no progress bars nor per-stage log lines
-  ProgressListener progress;     // told of each stage's progress (util/progress.h); may be empty
+  bool keep_iterations = false;      // RefineResult::iteration_poses
+  int threads = 0;                   // worker threads (0: all cores); the result does not depend on it
+  bool quiet = false;                // no progress bars nor per-stage log lines
+  ProgressListener progress;         // told of each stage's progress (util/progress.h); may be empty
   Preset preset = Preset::kDefault;  // the preset ApplyPreset (preset.h) set, for run.json
 
   bool refines() const { return extract_features && refine_poses; }
@@ -75,9 +75,9 @@ struct FeatureStage {
 };
 
 struct RefineStage {
-  RefineResult result;        // the poses, each iteration's record, the self-check
-  double index_s = 0;         // CPU seconds building the feature index (inside the extraction)
-  double keyframes_s = 0;     // the loop matcher's keyframes: gathered, and decoded where missing
+  RefineResult result;     // the poses, each iteration's record, the self-check
+  double index_s = 0;      // CPU seconds building the feature index (inside the extraction)
+  double keyframes_s = 0;  // the loop matcher's keyframes: gathered, and decoded where missing
   int keyframes = 0, keyframes_decoded = 0;
   size_t index_bytes = 0;
   int64_t peak_memory_bytes_before = 0, peak_memory_bytes_after = 0;

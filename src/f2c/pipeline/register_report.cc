@@ -31,23 +31,25 @@ std::vector<std::pair<std::string, std::string>> Facts(const RegisterResult& r, 
       {"versions", fmt::format("fine2coarse {}, OpenCV {}, Eigen {}", versions["fine2coarse"].get<std::string>(),
                                versions["opencv"].get<std::string>(), versions["eigen"].get<std::string>())},
       {"result", r.refine ? "refined fine-to-coarse" : "T0 (odometry only)"},
-      {"odometry", fmt::format("{} ({} keyframes; {} tracked, {} SIFT, {} ICP, {} motion prior)",
-                               Seconds(r.odometry.timings.wall), od.keyframes, od.track, od.sift, od.icp, od.motion_prior)},
+      {"odometry",
+       fmt::format("{} ({} keyframes; {} tracked, {} SIFT, {} ICP, {} motion prior)", Seconds(r.odometry.timings.wall),
+                   od.keyframes, od.track, od.sift, od.icp, od.motion_prior)},
       {"features", r.features ? fmt::format("{:.1f} s of CPU", r.features->timings.extract) : "-"},
       {"refinement", r.refine ? Seconds(r.refine->wall_s()) : "-"},
-      {"mesh", r.fusion ? fmt::format("{} ({} triangles)", Seconds(r.fusion->timings.wall), r.fusion->mesh.faces.size())
-                        : "-"},
+      {"mesh",
+       r.fusion ? fmt::format("{} ({} triangles)", Seconds(r.fusion->timings.wall), r.fusion->mesh.faces.size()) : "-"},
       {"total", fmt::format("{:.1f} s, {:.1f} frames/s", r.total_s, seq.frames.size() / r.total_s)},
       {"peak memory", fmt::format("{:.0f} MiB", r.peak_memory_bytes / 1048576.0)},
   };
   if (r.refine && r.refine->result.self_check.done) {
     const RefineResult& refined = r.refine->result;
     facts.emplace_back(
-        "self-check", fmt::format("held-out features {:.1f} mm RMS off the other frames at the start, {:.1f} at the end; "
-                                  "{} iterations undone{}",
-                                  1000 * refined.self_check.before.Rms(), 1000 * refined.self_check.after.Rms(),
-                                  refined.undone_iterations,
-                                  refined.self_check.undone ? "; the run agreed less: its initial poses kept" : ""));
+        "self-check",
+        fmt::format("held-out features {:.1f} mm RMS off the other frames at the start, {:.1f} at the end; "
+                    "{} iterations undone{}",
+                    1000 * refined.self_check.before.Rms(), 1000 * refined.self_check.after.Rms(),
+                    refined.undone_iterations,
+                    refined.self_check.undone ? "; the run agreed less: its initial poses kept" : ""));
   }
   return facts;
 }
@@ -57,7 +59,7 @@ ReportIteration ToReport(const IterationSummary& it) {
   r.window_length = it.window_length;
   r.windows = it.windows;
   r.seconds = it.seconds;
-  for (const auto& [term, cost] : it.solve.cost_after) r.cost_after.emplace_back(term, cost);
+  for (const auto& [term, cost] : it.solve.cost_after) r.cost_after.emplace_back(NameOf(term), cost);
   for (int t = 0; t < kFeatureTypeCount; ++t) {
     r.correspondences_by_type.emplace_back(FeatureTypeName(static_cast<FeatureType>(t)), it.correspondences.by_type[t]);
   }
@@ -115,7 +117,8 @@ std::string RegisterReport(const RegisterResult& r, const std::string& input, co
     for (const IterationSummary& it : r.refine->result.iterations) in.iterations.push_back(ToReport(it));
   }
   const fs::path correspondences = fs::is_directory(seq.root) ? seq.root / "correspondences.txt" : fs::path();
-  if (!correspondences.empty() && fs::exists(correspondences)) in.correspondences = ReadCorrespondences(correspondences);
+  if (!correspondences.empty() && fs::exists(correspondences))
+    in.correspondences = ReadCorrespondences(correspondences);
   if (r.fusion && !r.fusion->mesh.faces.empty()) {
     AddMesh(r.fusion->mesh, r.poses, &in);
   } else {

@@ -74,7 +74,9 @@ TEST(Register, RefinesASimulatedWalkAndReusesItsCache) {
   ASSERT_EQ(second.poses.size(), first.poses.size());
   double most = 0;
   for (size_t k = 0; k < first.poses.size(); ++k) {
-    most = std::max(most, (second.poses.world_from_camera[k].matrix() - first.poses.world_from_camera[k].matrix()).cwiseAbs().maxCoeff());
+    most = std::max(
+        most,
+        (second.poses.world_from_camera[k].matrix() - first.poses.world_from_camera[k].matrix()).cwiseAbs().maxCoeff());
   }
   EXPECT_LT(most, 1e-12);  // round-off: the odometry's pairs come back from JSON
 
@@ -91,8 +93,9 @@ TEST(Register, RefinesASimulatedWalkAndReusesItsCache) {
   EXPECT_EQ(run["statistics"]["odometry"]["pairs"], 119);
   const Trajectory written = ReadTrajectoryFile(out / "trajectory.txt");
   ASSERT_EQ(written.size(), first.poses.size());
-  EXPECT_LT((written.world_from_camera.back().translation() - first.poses.world_from_camera.back().translation()).norm(),
-            1e-5);
+  EXPECT_LT(
+      (written.world_from_camera.back().translation() - first.poses.world_from_camera.back().translation()).norm(),
+      1e-5);
   EXPECT_NEAR(Ate(ReadTrajectoryFile(out / "trajectory_t0.txt"), *first.sequence.ground_truth), t0, 1e-5);
 }
 

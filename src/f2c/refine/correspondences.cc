@@ -54,18 +54,17 @@ Thresholds ThresholdsForPath(const CorrespondenceOptions& o, double distance, do
 int CorrespondenceStats::total() const { return std::accumulate(by_type.begin(), by_type.end(), 0); }
 
 std::vector<FeatureCorrespondence> FindCorrespondences(const std::vector<FramePair>& pairs, const FeatureIndex& index,
-                                                const PoseVector& poses, const WindowSchedule& schedule,
-                                                int iteration, const std::vector<double>& path,
-                                                const CorrespondenceOptions& options, CorrespondenceStats* stats) {
+                                                       const PoseVector& poses, const WindowSchedule& schedule,
+                                                       int iteration, const std::vector<double>& path,
+                                                       const CorrespondenceOptions& options,
+                                                       CorrespondenceStats* stats) {
   options.Check();
   const int n = static_cast<int>(poses.size());
   const int64_t per_frame =
       schedule.Polishing(iteration) && options.polish_per_frame > 0 ? options.polish_per_frame : options.per_frame;
-  const int share =
-      pairs.empty() ? 0
-                    : std::max<int>(options.min_per_pair,
-                                    static_cast<int>((per_frame * n + pairs.size() - 1) /
-                                                     pairs.size()));
+  const int share = pairs.empty() ? 0
+                                  : std::max<int>(options.min_per_pair,
+                                                  static_cast<int>((per_frame * n + pairs.size() - 1) / pairs.size()));
   std::vector<std::vector<FeatureCorrespondence>> found(pairs.size());
   std::vector<int64_t> tried(pairs.size(), 0);
   tbb::parallel_for(0, static_cast<int>(pairs.size()), [&](int p) {
@@ -166,8 +165,9 @@ std::vector<FeatureCorrespondence> FindCorrespondences(const std::vector<FramePa
 nlohmann::json ToJson(const CorrespondenceStats& s) {
   nlohmann::json by_type;
   for (int t = 0; t < kFeatureTypeCount; ++t) by_type[FeatureTypeName(static_cast<FeatureType>(t))] = s.by_type[t];
-  return {{"pairs", s.pairs}, {"pairs_matched", s.pairs_matched}, {"per_pair", s.per_pair},
-          {"tried", s.tried}, {"total", s.total()},               {"by_type", by_type}};
+  return {{"pairs", s.pairs},       {"pairs_matched", s.pairs_matched},
+          {"per_pair", s.per_pair}, {"tried", s.tried},
+          {"total", s.total()},     {"by_type", by_type}};
 }
 
 }  // namespace f2c

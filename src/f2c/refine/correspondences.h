@@ -44,7 +44,7 @@ struct CorrespondenceOptions {
   double polish_max_distance = 0.03;
   double polish_max_angle_deg = 10;
   ThresholdSchedule schedule = ThresholdSchedule::kAge;
-  int per_frame = 100;    // |C| = per_frame n per iteration
+  int per_frame = 100;  // |C| = per_frame n per iteration
   // Beyond the paper: |C| of the polish iterations (0: per_frame). Each iteration draws its
   // own sample, so the poses carry that sample's noise: with 100 n, the polish iterations
   // move every pose by about 0.1 deg RMS from one to the next without converging
@@ -70,8 +70,10 @@ struct CorrespondenceOptions {
     F2C_FIELD(v, initial_max_angle_deg, "--max-angle-initial", AboveUpTo(0, 180),
               "normal/direction angle when a pair first shares a window (deg)");
     F2C_FIELD(v, final_max_angle_deg, "--max-angle-final", AboveUpTo(0, 180), "...decreasing linearly to this (deg)");
-    F2C_FIELD(v, decay_iterations, "--threshold-decay", AtLeast(0), "iterations from the initial to the final thresholds");
-    F2C_FIELD(v, polish_max_distance, "--polish-max-distance", Positive(), "correspondence distance in polish iterations (m)");
+    F2C_FIELD(v, decay_iterations, "--threshold-decay", AtLeast(0),
+              "iterations from the initial to the final thresholds");
+    F2C_FIELD(v, polish_max_distance, "--polish-max-distance", Positive(),
+              "correspondence distance in polish iterations (m)");
     F2C_FIELD(v, polish_max_angle_deg, "--polish-max-angle", AboveUpTo(0, 180),
               "normal/direction angle in polish iterations (deg)");
     F2C_FIELD(v, schedule, "--thresholds", {},
@@ -82,7 +84,8 @@ struct CorrespondenceOptions {
     F2C_FIELD(v, min_per_pair, "--min-correspondences-per-pair", AtLeast(1), "each pair's share at least this");
     F2C_FIELD(v, attempts, "", AtLeast(1), "features tried per correspondence wanted");
     F2C_FIELD(v, neighbours, "", Between(1, 64), "closest features checked for compatibility");
-    v.Field(type_weights[0], "weight_plane", "--weight-plane", AtLeast(0), "E_C weight of plane correspondences (relative)");
+    v.Field(type_weights[0], "weight_plane", "--weight-plane", AtLeast(0),
+            "E_C weight of plane correspondences (relative)");
     v.Field(type_weights[1], "weight_silhouette", "--weight-silhouette", AtLeast(0), "...of silhouette edges");
     v.Field(type_weights[2], "weight_shadow", "", AtLeast(0), "...of shadow edges (--use-shadows)");
     v.Field(type_weights[3], "weight_border", "", AtLeast(0), "...of image-border points (--use-borders)");
@@ -104,20 +107,20 @@ Thresholds ThresholdsForAge(const CorrespondenceOptions& options, int age);
 Thresholds ThresholdsForPath(const CorrespondenceOptions& options, double distance, double window_length);
 
 struct CorrespondenceStats {
-  int pairs = 0;                 // candidate pairs searched
-  int pairs_matched = 0;         // pairs that gave at least one correspondence
-  int per_pair = 0;              // each pair's share
-  int64_t tried = 0;             // features moved and searched
+  int pairs = 0;                                 // candidate pairs searched
+  int pairs_matched = 0;                         // pairs that gave at least one correspondence
+  int per_pair = 0;                              // each pair's share
+  int64_t tried = 0;                             // features moved and searched
   std::array<int, kFeatureTypeCount> by_type{};  // by the target feature's type
   int total() const;
 };
 
 // `path` holds each frame's camera path (metres), for kPath and path-window lengths.
 std::vector<FeatureCorrespondence> FindCorrespondences(const std::vector<FramePair>& pairs, const FeatureIndex& index,
-                                                const PoseVector& poses, const WindowSchedule& schedule,
-                                                int iteration, const std::vector<double>& path,
-                                                const CorrespondenceOptions& options,
-                                                CorrespondenceStats* stats = nullptr);
+                                                       const PoseVector& poses, const WindowSchedule& schedule,
+                                                       int iteration, const std::vector<double>& path,
+                                                       const CorrespondenceOptions& options,
+                                                       CorrespondenceStats* stats = nullptr);
 
 nlohmann::json ToJson(const CorrespondenceStats& stats);
 

@@ -57,11 +57,12 @@ TwoFrames MakeTwoFrames(const Eigen::Vector3f& shift_b) {
   t.poses[1].translation = Eigen::Vector3d(0.1, 0, 0);
   for (int frame = 0; frame < 2; ++frame) {
     FrameFeatures f;
-    const Eigen::Vector3f offset = frame == 0 ? Eigen::Vector3f(Eigen::Vector3f::Zero()) : Eigen::Vector3f(Eigen::Vector3f(-0.1f, 0, 0) + shift_b);
+    const Eigen::Vector3f offset =
+        frame == 0 ? Eigen::Vector3f(Eigen::Vector3f::Zero()) : Eigen::Vector3f(Eigen::Vector3f(-0.1f, 0, 0) + shift_b);
     for (int i = 0; i < 10; ++i) {
       for (int j = 0; j < 10; ++j) {
-        f.features.push_back(MakeFeature(FeatureType::kPlane, Eigen::Vector3f(-0.5f + 0.1f * i, -0.5f + 0.1f * j, 2) + offset,
-                                         {0, 0, -1}));
+        f.features.push_back(MakeFeature(FeatureType::kPlane,
+                                         Eigen::Vector3f(-0.5f + 0.1f * i, -0.5f + 0.1f * j, 2) + offset, {0, 0, -1}));
       }
     }
     for (int i = 0; i < 10; ++i) {
@@ -119,7 +120,8 @@ TEST(FindCorrespondences, NothingBeyondTheDistanceOrAngle) {
   t = MakeTwoFrames(Eigen::Vector3f::Zero());
   t.poses[1].rotation = Eigen::AngleAxisd(50 * M_PI / 180, Eigen::Vector3d::UnitY());
   t.poses[1].translation = Eigen::Vector3d::Zero();
-  for (const FeatureCorrespondence& x : FindCorrespondences({{0, 1, 1.0f}}, t.index, t.poses, t.schedule, 0, {0.0, 0.1}, o)) {
+  for (const FeatureCorrespondence& x :
+       FindCorrespondences({{0, 1, 1.0f}}, t.index, t.poses, t.schedule, 0, {0.0, 0.1}, o)) {
     EXPECT_EQ(x.kind, CorrespondenceKind::kPointToLine);  // only the vertical edge survives
   }
 }

@@ -11,13 +11,11 @@
 
 namespace f2c {
 
-void FeatureIndexOptions::Check() const {
-  CheckFields(*this);
-}
+void FeatureIndexOptions::Check() const { CheckFields(*this); }
 
 struct FeatureCloud::Tree {
-  using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, FeatureCloud>, FeatureCloud,
-                                                    3, uint32_t>;
+  using Index =
+      nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, FeatureCloud>, FeatureCloud, 3, uint32_t>;
   explicit Tree(const FeatureCloud& cloud) : index(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(12)) {}
   Index index;
 };
@@ -62,12 +60,20 @@ size_t FeatureCloud::MemoryBytes() const {
 
 bool FamilyOf(FeatureType type, const FeatureIndexOptions& options, FeatureFamily* family) {
   switch (type) {
-    case FeatureType::kPlane: *family = FeatureFamily::kPlane; return true;
+    case FeatureType::kPlane:
+      *family = FeatureFamily::kPlane;
+      return true;
     case FeatureType::kSilhouette:
     case FeatureType::kRidge:
-    case FeatureType::kValley: *family = FeatureFamily::kEdge; return true;
-    case FeatureType::kShadow: *family = FeatureFamily::kEdge; return options.use_shadows;
-    case FeatureType::kBorder: *family = FeatureFamily::kEdge; return options.use_borders;
+    case FeatureType::kValley:
+      *family = FeatureFamily::kEdge;
+      return true;
+    case FeatureType::kShadow:
+      *family = FeatureFamily::kEdge;
+      return options.use_shadows;
+    case FeatureType::kBorder:
+      *family = FeatureFamily::kEdge;
+      return options.use_borders;
   }
   return false;
 }
@@ -114,7 +120,8 @@ std::unique_ptr<FrameIndex> BuildFrameIndex(const FrameFeatures& features, const
 size_t FeatureIndex::MemoryBytes() const {
   size_t bytes = 0;
   for (const auto& f : frames) {
-    bytes += sizeof(FrameIndex) + f->coverage.size() * sizeof(Eigen::Vector3f) + f->proxies.size() * sizeof(PlanarProxy);
+    bytes +=
+        sizeof(FrameIndex) + f->coverage.size() * sizeof(Eigen::Vector3f) + f->proxies.size() * sizeof(PlanarProxy);
     for (const FeatureCloud& c : f->families) bytes += c.MemoryBytes();
   }
   return bytes;

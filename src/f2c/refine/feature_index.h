@@ -95,10 +95,10 @@ class FeatureCloud {
 
 struct FrameIndex {
   FeatureCloud families[kFeatureFamilyCount];
-  Eigen::AlignedBox3f box;                  // of the kept features, camera coordinates
+  Eigen::AlignedBox3f box;  // of the kept features, camera coordinates
   Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
-  std::vector<Eigen::Vector3f> coverage;    // a spread subsample, for overlap estimates
-  std::vector<PlanarProxy> proxies;         // the structural model's children, largest first
+  std::vector<Eigen::Vector3f> coverage;  // a spread subsample, for overlap estimates
+  std::vector<PlanarProxy> proxies;       // the structural model's children, largest first
   const FeatureCloud& family(FeatureFamily f) const { return families[static_cast<int>(f)]; }
   bool empty() const { return families[0].size() + families[1].size() == 0; }
 };
@@ -112,6 +112,5 @@ struct FeatureIndex {
   std::vector<std::unique_ptr<FrameIndex>> frames;
   size_t MemoryBytes() const;
 };
-
 
 }  // namespace f2c

@@ -14,9 +14,7 @@
 
 namespace f2c {
 
-void HierarchyOptions::Check() const {
-  CheckFields(*this);
-}
+void HierarchyOptions::Check() const { CheckFields(*this); }
 
 namespace {
 
@@ -137,7 +135,8 @@ std::vector<double> SiblingAgreement(const std::vector<ClusterItem>& items, cons
     weighted.emplace_back(along[i], item.weight);
   }
   const double median = WeightedMedian(&weighted);
-  for (size_t i = 0; i < along.size(); ++i) weighted[i] = {std::abs(along[i] - median), items[cluster.members[i]].weight};
+  for (size_t i = 0; i < along.size(); ++i)
+    weighted[i] = {std::abs(along[i] - median), items[cluster.members[i]].weight};
   const double spread = std::max(options.agreement_floor, 1.4826 * WeightedMedian(&weighted));
   const double scale = options.agreement_scale * spread;
   for (size_t i = 0; i < along.size(); ++i) {

@@ -38,9 +38,9 @@ struct HierarchyOptions {
   // (refine_test): that merges a wall with a cupboard front or a surface 20 deg
   // off it, or a desk with what stands on it, and E_H then bends the scan; the defaults are
   // 0.05 m and 5 deg.
-  double max_distance = 0.05;                     // metres
+  double max_distance = 0.05;  // metres
   double max_normal_angle_deg = 5;
-  double premerge_fraction = 0.5;              // of both thresholds, for the first pass
+  double premerge_fraction = 0.5;  // of both thresholds, for the first pass
   // Two children of one image further apart than this (metres) never share a parent (0: off).
   // A few sensor noise levels of a plane fitted to hundreds of points at 1-3 m.
   double in_image_distance = 0.015;
@@ -66,19 +66,22 @@ struct HierarchyOptions {
   template <class V>
   void Fields(V& v) {
     v.Group("Refinement: planar structure (paper 4.2-4.3)");
-    F2C_FIELD(v, max_distance, "--coplanar-distance", Positive(), "parents: children merge within this plane distance (m)");
-    v.Field(max_normal_angle_deg, "max_normal_angle_deg", "--coplanar-angle", Bounds{.min = 0, .max = 90, .min_open = true, .max_open = true},
-            "...and this normal angle (deg)");
+    F2C_FIELD(v, max_distance, "--coplanar-distance", Positive(),
+              "parents: children merge within this plane distance (m)");
+    v.Field(max_normal_angle_deg, "max_normal_angle_deg", "--coplanar-angle",
+            Bounds{.min = 0, .max = 90, .min_open = true, .max_open = true}, "...and this normal angle (deg)");
     F2C_FIELD(v, premerge_fraction, "", AboveUpTo(0, 1), "of both thresholds, for the first pass");
     F2C_FIELD(v, in_image_distance, "--coplanar-in-image-distance", AtLeast(0),
               "two children of one image further apart never share a parent (m; 0: off)");
     F2C_FIELD(v, agreement_scale, "--coplanar-agreement-scale", AtLeast(0),
-              "E_H: a child t off its parent's robust plane weighs 1/(1+(t/(k s))^2), s its siblings' robust spread (k; 0: off)");
+              "E_H: a child t off its parent's robust plane weighs 1/(1+(t/(k s))^2), s its siblings' robust spread "
+              "(k; 0: off)");
     F2C_FIELD(v, agreement_floor, "--coplanar-agreement-floor", Positive(), "...s at least this (m)");
     F2C_FIELD(v, agreement_min_children, "--coplanar-agreement-min-children", AtLeast(1),
               "...in parents of at least this many children");
     F2C_FIELD(v, remove_proxy_noise, "--proxy-noise-removal,!--no-proxy-noise-removal", {},
-              "children's planes fitted without their estimated depth noise (off: the least-squares planes, turned towards the rays)");
+              "children's planes fitted without their estimated depth noise (off: the least-squares planes, turned "
+              "towards the rays)");
   }
   void Check() const;  // InputError naming the option when out of range
 };
@@ -91,7 +94,7 @@ struct ClusterItem {
 };
 
 struct PlaneCluster {
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // weighted mean, unit
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();   // weighted mean, unit
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // weighted mean
   double weight = 0;
   std::vector<int> members;  // item indices, ascending
@@ -112,7 +115,7 @@ struct HierarchyStats {
   int parents = 0;
   int parents_spanning_frames = 0;  // parents whose children come from two or more frames
   int links = 0;
-  int links_discounted = 0;  // links whose sibling agreement is below one half
+  int links_discounted = 0;    // links whose sibling agreement is below one half
   double agreement_scale = 0;  // the k the links were weighted with (0: off)
 };
 
@@ -120,9 +123,9 @@ struct ProxyHierarchy {
   // Children (every kept proxy of every frame), parents (their world planes from the
   // clustering) and links; relations are added by refine/relations.h.
   StructureConstraints structure;
-  std::vector<int> parent_window;                 // the window each parent was clustered in
-  std::vector<std::vector<int>> window_parents;   // parents of each window
-  std::vector<std::vector<int>> child_parents;    // parents of each child (one per window)
+  std::vector<int> parent_window;                // the window each parent was clustered in
+  std::vector<std::vector<int>> window_parents;  // parents of each window
+  std::vector<std::vector<int>> child_parents;   // parents of each child (one per window)
   HierarchyStats stats;
 };
 

@@ -160,7 +160,8 @@ TEST(BuildProxyHierarchy, OneParentPerWindowAndALinkPerChildAndWindow) {
   }
   for (const CoplanarLink& l : h.structure.links) EXPECT_NEAR(l.anchor.z(), 3, 1e-6);
   // The whole scan in one window: one parent of four children.
-  const ProxyHierarchy full = BuildProxyHierarchy(schedule, schedule.iterations() - 1, index, poses, HierarchyOptions());
+  const ProxyHierarchy full =
+      BuildProxyHierarchy(schedule, schedule.iterations() - 1, index, poses, HierarchyOptions());
   EXPECT_EQ(full.stats.parents, 1);
   EXPECT_EQ(full.stats.links, 4);
 }

@@ -15,9 +15,7 @@
 
 namespace f2c {
 
-void KeyframeOptions::Check() const {
-  CheckFields(*this);
-}
+void KeyframeOptions::Check() const { CheckFields(*this); }
 
 Keyframe MakeKeyframe(int frame, const SiftFeatures& sift, int max_keypoints) {
   Keyframe k;
@@ -127,15 +125,15 @@ std::vector<Keyframe> KeyframeStore::Finish(const std::vector<int>& frames) {
   std::vector<Keyframe> keyframes(n);
   std::vector<uint64_t> keys(n);
   if (!cache_file_.empty()) {
-    tbb::parallel_for(0, n, [&](int i) {
-      keys[i] = HashFrameFiles(seq_.frames[frames[i]]) ^ (context_ * 0x9E3779B97F4A7C15ULL);
-    });
+    tbb::parallel_for(
+        0, n, [&](int i) { keys[i] = HashFrameFiles(seq_.frames[frames[i]]) ^ (context_ * 0x9E3779B97F4A7C15ULL); });
   }
   std::map<uint64_t, Keyframe> cache = ReadCache(cache_file_, context_);
   std::vector<int> missing;
   for (int i = 0; i < n; ++i) {
-    F2C_CHECK(frames[i] >= 0 && frames[i] < static_cast<int>(seq_.frames.size()) && (i == 0 || frames[i] > frames[i - 1]),
-              "keyframes ascending and in the sequence");
+    F2C_CHECK(
+        frames[i] >= 0 && frames[i] < static_cast<int>(seq_.frames.size()) && (i == 0 || frames[i] > frames[i - 1]),
+        "keyframes ascending and in the sequence");
     if (auto it = offered_.find(frames[i]); it != offered_.end()) {
       keyframes[i] = std::move(it->second);
     } else if (auto hit = cache.find(keys[i]); !cache_file_.empty() && hit != cache.end()) {
@@ -152,7 +150,8 @@ std::vector<Keyframe> KeyframeStore::Finish(const std::vector<int>& frames) {
     const RgbdFrame& frame = seq_.frames[frames[i]];
     const cv::Mat depth = LoadDepthMeters(seq_, frame);
     const cv::Mat gray = LoadGray(seq_, frame, depth.size());  // as the odometry decodes it
-    keyframes[i] = MakeKeyframe(frames[i], ExtractSiftWithDepth(gray, depth, *seq_.intrinsics, sift_), options_.max_keypoints);
+    keyframes[i] =
+        MakeKeyframe(frames[i], ExtractSiftWithDepth(gray, depth, *seq_.intrinsics, sift_), options_.max_keypoints);
   });
   computed_ = static_cast<int>(missing.size());
   if (!cache_file_.empty() && cached_ < n) {

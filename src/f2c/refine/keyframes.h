@@ -79,5 +79,4 @@ class KeyframeStore {
 // frame the odometry started a keyframe at; every 5th frame when it started none.
 std::vector<int> LoopKeyframes(int frames, const KeyframeOptions& options, const std::vector<int>& odometry_keyframes);
 
-
 }  // namespace f2c

@@ -76,8 +76,11 @@ double PairConfidence(const PairAlignment& pair, const LocalAlignmentOptions& o)
     case AlignmentMethod::kTrack:
       c = 1.0 / (1.0 + std::exp(-o.inlier_slope * (pair.inliers - o.inlier_midpoint)));
       break;
-    case AlignmentMethod::kIcp: c = pair.degenerate == 0 ? o.icp_measured_weight : o.icp_weight; break;
-    case AlignmentMethod::kMotionPrior: return o.prior_weight;
+    case AlignmentMethod::kIcp:
+      c = pair.degenerate == 0 ? o.icp_measured_weight : o.icp_weight;
+      break;
+    case AlignmentMethod::kMotionPrior:
+      return o.prior_weight;
   }
   return c * FitnessRamp(pair, o);
 }
@@ -86,9 +89,9 @@ std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlign
                                                      const LocalAlignmentOptions& options) {
   options.Check();
   const int n = static_cast<int>(pairs.size()) + 1;
-  std::vector<double> confidence(n, 1.0);  // of frame k's pair; frame 0 has none
-  std::vector<char> measured(n, 1);        // frame k's pair measured every direction
-  std::vector<int> inliers(n, kNoInlierCount);    // frame k's RANSAC inliers (SIFT, tracking)
+  std::vector<double> confidence(n, 1.0);       // of frame k's pair; frame 0 has none
+  std::vector<char> measured(n, 1);             // frame k's pair measured every direction
+  std::vector<int> inliers(n, kNoInlierCount);  // frame k's RANSAC inliers (SIFT, tracking)
   std::vector<int> reference(n, -1);
   std::vector<Rigid3d> world_from(n, Rigid3d::Identity());  // T0, chained along the references
   // Frame k's pair's covariance (a left perturbation of reference_from_frame in the

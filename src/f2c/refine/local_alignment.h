@@ -67,8 +67,8 @@ struct LocalAlignmentOptions {
   double fitness_low = 0.4;
   double fitness_high = 0.8;
   double min_ramp = 0.05;
-  double distance_sigma = 0;  // metres; 0: off
-  bool information = true;    // whiten constraints whose pairs all carry their information
+  double distance_sigma = 0;   // metres; 0: off
+  bool information = true;     // whiten constraints whose pairs all carry their information
   double reference_sigma = 0;  // metres; 0: the median translation sigma of those constraints
   // What the fit's noise model leaves out (a real sensor's depth distortion, colour-depth
   // misregistration, rolling shutter) does not shrink with more inliers: each pair's covariance
@@ -92,7 +92,8 @@ struct LocalAlignmentOptions {
   void Fields(V& v) {
     v.Group("Refinement: energy and solver (paper 4.3)");
     F2C_FIELD(v, max_power, "--local-max-power", Between(0, 20), "E_L between frames j and j + 2^k, k <= this");
-    F2C_FIELD(v, icp_weight, "--local-icp-weight", Between(0, 1), "E_L confidence of ICP-fallback pairs (SIFT pairs up to 1)");
+    F2C_FIELD(v, icp_weight, "--local-icp-weight", Between(0, 1),
+              "E_L confidence of ICP-fallback pairs (SIFT pairs up to 1)");
     F2C_FIELD(v, icp_measured_weight, "--local-icp-measured-weight", Between(0, 1),
               "...of ICP-fallback pairs with no direction left to the prediction");
     F2C_FIELD(v, prior_weight, "--local-prior-weight", Between(0, 1), "E_L confidence of motion-prior pairs");
@@ -137,6 +138,5 @@ Eigen::Matrix<double, 6, 6> LocalErrorCovariance(const Rigid3d& a_from_b,
 // inside the scan, and one per (reference, k) that is not among those.
 std::vector<RelativePoseConstraint> LocalConstraints(const std::vector<PairAlignment>& pairs,
                                                      const LocalAlignmentOptions& options);
-
 
 }  // namespace f2c

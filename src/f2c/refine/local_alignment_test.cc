@@ -89,8 +89,8 @@ TEST(LocalConstraints, KeyframeReferencesFollowTheTreeOfReferences) {
   const std::vector<RelativePoseConstraint> c = LocalConstraints(pairs, o);
   const double strong = PairConfidence(pairs[0], o), weak = 0.3;
   std::map<std::pair<int, int>, double> expected = {
-      {{0, 1}, strong}, {{1, 2}, weak},   {{2, 3}, weak},   {{3, 4}, strong}, {{4, 5}, strong},
-      {{0, 2}, weak},   {{1, 3}, strong}, {{2, 4}, weak},   {{3, 5}, strong}, {{0, 3}, strong}};
+      {{0, 1}, strong}, {{1, 2}, weak},   {{2, 3}, weak}, {{3, 4}, strong}, {{4, 5}, strong},
+      {{0, 2}, weak},   {{1, 3}, strong}, {{2, 4}, weak}, {{3, 5}, strong}, {{0, 3}, strong}};
   ASSERT_EQ(c.size(), expected.size());
   for (const RelativePoseConstraint& r : c) {
     const auto it = expected.find({r.frame_a, r.frame_b});
@@ -114,9 +114,9 @@ TEST(LocalConstraints, MeasuredWhereEveryPairOnThePathMeasuredEveryDirection) {
   pairs[5] = Pair(6, AlignmentMethod::kMotionPrior, 0, 0.0, 0.6);  // frames 5 -> 6
   LocalAlignmentOptions o;
   o.max_power = 1;
-  std::map<std::pair<int, int>, bool> expected = {
-      {{0, 1}, true}, {{1, 2}, false}, {{2, 3}, true}, {{3, 4}, true}, {{4, 5}, true}, {{5, 6}, false},
-      {{0, 2}, false}, {{1, 3}, false}, {{2, 4}, true}, {{3, 5}, true}, {{4, 6}, false}};
+  std::map<std::pair<int, int>, bool> expected = {{{0, 1}, true}, {{1, 2}, false}, {{2, 3}, true},  {{3, 4}, true},
+                                                  {{4, 5}, true}, {{5, 6}, false}, {{0, 2}, false}, {{1, 3}, false},
+                                                  {{2, 4}, true}, {{3, 5}, true},  {{4, 6}, false}};
   pairs[2].inliers = 30;  // frames 2 -> 3, tracked with few keypoints
   const std::vector<RelativePoseConstraint> c = LocalConstraints(pairs, o);
   ASSERT_EQ(c.size(), expected.size());
@@ -147,7 +147,8 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 // exp(w, v) t: turned by w (a rotation vector), then moved by v.
 Rigid3d Perturbed(const Vector6d& d, const Rigid3d& t) {
   Rigid3d e = Rigid3d::Identity();
-  if (d.head<3>().norm() > 0) e.linear() = Eigen::AngleAxisd(d.head<3>().norm(), d.head<3>().normalized()).toRotationMatrix();
+  if (d.head<3>().norm() > 0)
+    e.linear() = Eigen::AngleAxisd(d.head<3>().norm(), d.head<3>().normalized()).toRotationMatrix();
   e.translation() = d.tail<3>();
   return e * t;
 }

@@ -11,9 +11,7 @@
 
 namespace f2c {
 
-void PairOptions::Check() const {
-  CheckFields(*this);
-}
+void PairOptions::Check() const { CheckFields(*this); }
 
 float CoverageSeen(const FrameIndex& a, const Eigen::Isometry3f& b_from_a, const CameraIntrinsics& k,
                    double max_depth) {
@@ -102,8 +100,9 @@ std::vector<FramePair> CandidatePairs(const WindowSchedule& schedule, int iterat
               const Eigen::Vector3f axis_b = world_from_camera[b].linear().col(2);
               if (axis_a.dot(axis_b) < min_axis_cos) continue;
               const Eigen::Isometry3f b_from_a = world_from_camera[b].inverse() * world_from_camera[a];
-              const float overlap = std::max(CoverageSeen(*index.frames[a], b_from_a, intrinsics, options.max_depth),
-                                             CoverageSeen(*index.frames[b], b_from_a.inverse(), intrinsics, options.max_depth));
+              const float overlap =
+                  std::max(CoverageSeen(*index.frames[a], b_from_a, intrinsics, options.max_depth),
+                           CoverageSeen(*index.frames[b], b_from_a.inverse(), intrinsics, options.max_depth));
               if (overlap >= options.min_overlap && overlap > 0) tested.push_back({a, b, overlap});
             }
           }
@@ -115,7 +114,8 @@ std::vector<FramePair> CandidatePairs(const WindowSchedule& schedule, int iterat
       if (static_cast<int>(tested.size()) > options.per_octave) tested.resize(options.per_octave);
       per_frame[a].insert(per_frame[a].end(), tested.begin(), tested.end());
     }
-    std::sort(per_frame[a].begin(), per_frame[a].end(), [](const FramePair& x, const FramePair& y) { return x.b < y.b; });
+    std::sort(per_frame[a].begin(), per_frame[a].end(),
+              [](const FramePair& x, const FramePair& y) { return x.b < y.b; });
   });
   std::vector<FramePair> pairs;
   for (const auto& p : per_frame) pairs.insert(pairs.end(), p.begin(), p.end());

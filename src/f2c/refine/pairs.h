@@ -40,12 +40,16 @@ struct PairOptions {
   template <class V>
   void Fields(V& v) {
     v.Group("Refinement: frame pairs and correspondences (paper 4.2)");
-    F2C_FIELD(v, cell_size, "--pair-cell-size", Positive(), "grid of frames' feature centroids for pair candidates (m)");
-    F2C_FIELD(v, min_overlap, "--min-overlap", Between(0, 1), "pairs: share of one frame's points the other camera sees");
-    F2C_FIELD(v, max_view_angle_deg, "--max-view-angle", AboveUpTo(0, 180), "pairs: largest angle between optical axes (deg)");
+    F2C_FIELD(v, cell_size, "--pair-cell-size", Positive(),
+              "grid of frames' feature centroids for pair candidates (m)");
+    F2C_FIELD(v, min_overlap, "--min-overlap", Between(0, 1),
+              "pairs: share of one frame's points the other camera sees");
+    F2C_FIELD(v, max_view_angle_deg, "--max-view-angle", AboveUpTo(0, 180),
+              "pairs: largest angle between optical axes (deg)");
     F2C_FIELD(v, max_depth, "", Positive(), "beyond this a camera is taken not to see a point (m)");
     F2C_FIELD(v, per_octave, "--pairs-per-octave", AtLeast(1), "partners per frame and power-of-two frame gap");
-    F2C_FIELD(v, long_range_stride, "--long-range-stride", AtLeast(1), "pairs far apart join only every N-th frame (1: all)");
+    F2C_FIELD(v, long_range_stride, "--long-range-stride", AtLeast(1),
+              "pairs far apart join only every N-th frame (1: all)");
     F2C_FIELD(v, long_range_gap, "--long-range-gap", AtLeast(1), "...when at least this many frames apart");
   }
   void Check() const;
@@ -66,6 +70,5 @@ std::vector<FramePair> CandidatePairs(const WindowSchedule& schedule, int iterat
 // with b_from_a the relative pose.
 float CoverageSeen(const FrameIndex& a, const Eigen::Isometry3f& b_from_a, const CameraIntrinsics& intrinsics,
                    double max_depth);
-
 
 }  // namespace f2c

@@ -84,7 +84,8 @@ TEST(CandidatePairs, AtMostPerOctavePartnersPerPowerOfTwoGap) {
   for (const auto& [key, count] : per_octave) EXPECT_EQ(count, 1) << key.first << " octave " << key.second;
   // Frame 0 gets a partner in each octave up to gap 32..63 whose views overlap (frames up to
   // about 1.6 m along still see part of the wall).
-  EXPECT_GE(per_octave.count({0, 0}) + per_octave.count({0, 1}) + per_octave.count({0, 2}) + per_octave.count({0, 3}), 4u);
+  EXPECT_GE(per_octave.count({0, 0}) + per_octave.count({0, 1}) + per_octave.count({0, 2}) + per_octave.count({0, 3}),
+            4u);
   // About n log n pairs, not n^2 / 2.
   EXPECT_LT(pairs.size(), static_cast<size_t>(n * 7));
 }

@@ -52,7 +52,7 @@ double MatchError(const PoseVector& poses, const std::vector<PointMatch>& matche
 double GraphCost(const SolveSummary& summary) {
   double cost = 0;
   for (const auto& [term, value] : summary.cost_after) {
-    if (term != "E_I") cost += value;
+    if (term != Term::kI) cost += value;
   }
   return cost;
 }
@@ -65,9 +65,7 @@ bool KeepSecondPresolve(const SolveSummary& first, const SolveSummary& second) {
   return GraphCost(second) < GraphCost(first);
 }
 
-void RefineOptions::Check() const {
-  CheckFields(*this);
-}
+void RefineOptions::Check() const { CheckFields(*this); }
 
 FeatureIndex BuildFeatureIndex(const FeatureSet& features, const FeatureIndexOptions& options) {
   options.Check();
@@ -81,15 +79,16 @@ FeatureIndex BuildFeatureIndex(const FeatureSet& features, const FeatureIndexOpt
 std::vector<double> CameraPath(const Trajectory& trajectory) {
   std::vector<double> path(trajectory.size(), 0.0);
   for (size_t k = 1; k < trajectory.size(); ++k) {
-    path[k] = path[k - 1] + (trajectory.world_from_camera[k].translation() -
-                             trajectory.world_from_camera[k - 1].translation()).norm();
+    path[k] =
+        path[k - 1] +
+        (trajectory.world_from_camera[k].translation() - trajectory.world_from_camera[k - 1].translation()).norm();
   }
   return path;
 }
 
 RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<PairAlignment>& pairs,
-                                const Trajectory& t0, const CameraIntrinsics& intrinsics,
-                                const RefineOptions& options, const RefineRun& run, std::vector<Keyframe> keyframes) {
+                                const Trajectory& t0, const CameraIntrinsics& intrinsics, const RefineOptions& options,
+                                const RefineRun& run, std::vector<Keyframe> keyframes) {
   options.Check();
   Timer total;
   const int n = static_cast<int>(t0.size());
@@ -129,9 +128,8 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     WindowOptions short_windows;
     short_windows.initial_frames = options.windows.initial_frames;
     const WindowSchedule measure(short_windows, std::vector<double>(n, 0.0));
-    initial_spread =
-        ChildNormalSpreadDeg(BuildProxyHierarchy(measure, 0, index, result.poses, options.hierarchy).structure,
-                             result.poses);
+    initial_spread = ChildNormalSpreadDeg(
+        BuildProxyHierarchy(measure, 0, index, result.poses, options.hierarchy).structure, result.poses);
     if (initial_spread > 0) {
       const double ratio = options.coplanarity_noise_reference_deg / initial_spread;
       coplanarity_factor = std::min(1.0, ratio * ratio);
@@ -281,19 +279,20 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     PoseChange(before, result.poses, &s);
     s.seconds = timer.Seconds();
     if (!run.quiet) {
-      spdlog::info("refine {}/{}{}: windows of {:.4g} {} ({}), {} pairs, {} correspondences, {} SIFT loops (+{}), "
-                   "{} parents, {} relations, "
-                   "E_C {:.4g} -> {:.4g}, {} Ceres iterations, max change {:.3f} m / {:.2f} deg{}, {:.2f} s",
-                   it + 1, schedule.iterations(), it < schedule.iterations() ? "" : " (added polish)", s.window_length,
-                   options.windows.mode == WindowMode::kPath ? "m" : "frames", s.windows, s.candidate_pairs,
-                   s.correspondences.total(), s.loops.pairs, s.loops.accepted, s.hierarchy.parents,
-                   s.relations.total(), s.solve.cost_before.count("E_C") ? s.solve.cost_before.at("E_C") : 0.0,
-                   s.solve.cost_after.count("E_C") ? s.solve.cost_after.at("E_C") : 0.0, s.solve.iterations,
-                   s.max_translation_change, s.max_rotation_change_deg,
-                   !s.self_check.done ? std::string()
-                                      : fmt::format(", check {:.4f} -> {:.4f} m{}", s.self_check.before.Rms(),
-                                                    s.self_check.after.Rms(), s.self_check.undone ? " (undone)" : ""),
-                   s.seconds);
+      spdlog::info(
+          "refine {}/{}{}: windows of {:.4g} {} ({}), {} pairs, {} correspondences, {} SIFT loops (+{}), "
+          "{} parents, {} relations, "
+          "E_C {:.4g} -> {:.4g}, {} Ceres iterations, max change {:.3f} m / {:.2f} deg{}, {:.2f} s",
+          it + 1, schedule.iterations(), it < schedule.iterations() ? "" : " (added polish)", s.window_length,
+          options.windows.mode == WindowMode::kPath ? "m" : "frames", s.windows, s.candidate_pairs,
+          s.correspondences.total(), s.loops.pairs, s.loops.accepted, s.hierarchy.parents, s.relations.total(),
+          s.solve.cost_before.count(Term::kC) ? s.solve.cost_before.at(Term::kC) : 0.0,
+          s.solve.cost_after.count(Term::kC) ? s.solve.cost_after.at(Term::kC) : 0.0, s.solve.iterations,
+          s.max_translation_change, s.max_rotation_change_deg,
+          !s.self_check.done ? std::string()
+                             : fmt::format(", check {:.4f} -> {:.4f} m{}", s.self_check.before.Rms(),
+                                           s.self_check.after.Rms(), s.self_check.undone ? " (undone)" : ""),
+          s.seconds);
     }
     result.iterations.push_back(s);
     if (run.keep_iterations) result.iteration_poses.push_back(result.poses);
@@ -313,9 +312,10 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
     if (r.after.score > (1 + options.self_check.run_tolerance) * r.before.score) {
       r.undone = true;
       result.poses = start;
-      spdlog::warn("self-check: the refinement left overlapping frames agreeing less than at its start ({:.4f} -> "
-                   "{:.4f} m RMS); the initial poses are kept",
-                   r.before.Rms(), r.after.Rms());
+      spdlog::warn(
+          "self-check: the refinement left overlapping frames agreeing less than at its start ({:.4f} -> "
+          "{:.4f} m RMS); the initial poses are kept",
+          r.before.Rms(), r.after.Rms());
     }
   }
   result.seconds = total.Seconds();
@@ -323,42 +323,45 @@ RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<Pai
 }
 
 nlohmann::json ToJson(const IterationSummary& s) {
-  return {{"iteration", s.iteration},
-          {"window_length", s.window_length},
-          {"windows", s.windows},
-          {"full", s.full},
-          {"polish", s.polish},
-          {"candidate_pairs", s.candidate_pairs},
-          {"correspondences", ToJson(s.correspondences)},
-          {"sift_loops", ToJson(s.loops)},
-          {"local_constraints", s.local_constraints},
-          {"velocity_constraints", s.velocity_constraints},
-          {"weights", {{"E_C", s.weight_correspondence},
-                       {"E_P", s.weight_proxy},
-                       {"E_H", s.weight_coplanarity},
-                       {"E_G", s.weight_relation}}},
-          {"relation_loss_scale_deg", s.relation_loss_scale_deg},
-          {"coplanarity_loss_scale_m", s.coplanarity_loss_scale},
-          {"local_loss_scale_m", s.local_loss_scale},
-          {"hierarchy", ToJson(s.hierarchy)},
-          {"child_normal_spread_deg", s.child_normal_spread_deg},
-          {"coplanarity_noise_factor", s.coplanarity_noise_factor},
-          {"relations", ToJson(s.relations)},
-          {"loop_presolve", s.presolve.termination.empty() ? nlohmann::json(nullptr) : ToJson(s.presolve)},
-          {"loop_presolve_start", s.presolve_start.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.presolve_start)},
-          {"solve", ToJson(s.solve)},
-          {"max_translation_change_m", s.max_translation_change},
-          {"max_rotation_change_deg", s.max_rotation_change_deg},
-          {"rms_translation_change_m", s.rms_translation_change},
-          {"rms_rotation_change_deg", s.rms_rotation_change_deg},
-          {"self_check", ToJson(s.self_check)},
-          {"seconds", {{"pairs", s.seconds_pairs},
-                       {"correspondences", s.seconds_correspondences},
-                       {"sift_loops", s.seconds_loops},
-                       {"structure", s.seconds_structure},
-                       {"solve", s.seconds_solve},
-                       {"self_check", s.seconds_check},
-                       {"total", s.seconds}}}};
+  return {
+      {"iteration", s.iteration},
+      {"window_length", s.window_length},
+      {"windows", s.windows},
+      {"full", s.full},
+      {"polish", s.polish},
+      {"candidate_pairs", s.candidate_pairs},
+      {"correspondences", ToJson(s.correspondences)},
+      {"sift_loops", ToJson(s.loops)},
+      {"local_constraints", s.local_constraints},
+      {"velocity_constraints", s.velocity_constraints},
+      {"weights",
+       {{NameOf(Term::kC), s.weight_correspondence},
+        {NameOf(Term::kP), s.weight_proxy},
+        {NameOf(Term::kH), s.weight_coplanarity},
+        {NameOf(Term::kG), s.weight_relation}}},
+      {"relation_loss_scale_deg", s.relation_loss_scale_deg},
+      {"coplanarity_loss_scale_m", s.coplanarity_loss_scale},
+      {"local_loss_scale_m", s.local_loss_scale},
+      {"hierarchy", ToJson(s.hierarchy)},
+      {"child_normal_spread_deg", s.child_normal_spread_deg},
+      {"coplanarity_noise_factor", s.coplanarity_noise_factor},
+      {"relations", ToJson(s.relations)},
+      {"loop_presolve", s.presolve.termination.empty() ? nlohmann::json(nullptr) : ToJson(s.presolve)},
+      {"loop_presolve_start", s.presolve_start.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.presolve_start)},
+      {"solve", ToJson(s.solve)},
+      {"max_translation_change_m", s.max_translation_change},
+      {"max_rotation_change_deg", s.max_rotation_change_deg},
+      {"rms_translation_change_m", s.rms_translation_change},
+      {"rms_rotation_change_deg", s.rms_rotation_change_deg},
+      {"self_check", ToJson(s.self_check)},
+      {"seconds",
+       {{"pairs", s.seconds_pairs},
+        {"correspondences", s.seconds_correspondences},
+        {"sift_loops", s.seconds_loops},
+        {"structure", s.seconds_structure},
+        {"solve", s.seconds_solve},
+        {"self_check", s.seconds_check},
+        {"total", s.seconds}}}};
 }
 
 }  // namespace f2c

@@ -144,9 +144,10 @@ struct RefineOptions {
               "the planar structural model E_P, E_H, E_G (--no-structure: the paper's ablation)");
     F2C_FIELD(v, structure_first_iteration, "--structure-from", AnyFinite(),
               "the structure from this iteration on (< 0: from the first whose window holds the whole scan)");
-    F2C_FIELD(v, coplanarity_noise_reference_deg, "--coplanarity-noise-reference", AtLeast(0),
-              "w_H times min(1, (this / the children's normal spread in windows of l_0 frames at the start)^2) (deg; 0: "
-              "off)");
+    F2C_FIELD(
+        v, coplanarity_noise_reference_deg, "--coplanarity-noise-reference", AtLeast(0),
+        "w_H times min(1, (this / the children's normal spread in windows of l_0 frames at the start)^2) (deg; 0: "
+        "off)");
     F2C_FIELD(v, polish_relation_loss_scale_deg, "--polish-relation-loss-scale", AtLeast(0),
               "Cauchy scale of E_G in the polish iterations (deg; 0: as in the others; the tighter of it and "
               "--relation-loss-scale)");
@@ -170,8 +171,8 @@ struct IterationSummary {
   int iteration = 0;
   double window_length = 0;  // frames, or metres in path mode
   int windows = 0;
-  bool full = false;         // one window holds the scan
-  bool polish = false;       // a polish iteration (the schedule's last ones, and those added)
+  bool full = false;    // one window holds the scan
+  bool polish = false;  // a polish iteration (the schedule's last ones, and those added)
   int candidate_pairs = 0;
   CorrespondenceStats correspondences;
   SiftLoopStats loops;
@@ -179,14 +180,14 @@ struct IterationSummary {
   int velocity_constraints = 0;  // E_V's triples
   double weight_correspondence = 0;
   double weight_proxy = 0, weight_coplanarity = 0, weight_relation = 0;
-  double relation_loss_scale_deg = 0;  // E_G's Cauchy scale this iteration (0: least squares)
-  double coplanarity_loss_scale = 0;   // E_H's (metres)
-  double local_loss_scale = 0;         // E_L's weakly tracked, measured links' (metres)
-  double child_normal_spread_deg = 0;  // with the structure: ChildNormalSpreadDeg, this iteration's windows
+  double relation_loss_scale_deg = 0;   // E_G's Cauchy scale this iteration (0: least squares)
+  double coplanarity_loss_scale = 0;    // E_H's (metres)
+  double local_loss_scale = 0;          // E_L's weakly tracked, measured links' (metres)
+  double child_normal_spread_deg = 0;   // with the structure: ChildNormalSpreadDeg, this iteration's windows
   double coplanarity_noise_factor = 1;  // w_H's factor from the measured spread
   HierarchyStats hierarchy;
   RelationStats relations;
-  SolveSummary presolve;  // when new SIFT loops were accepted (termination empty otherwise)
+  SolveSummary presolve;       // when new SIFT loops were accepted (termination empty otherwise)
   std::string presolve_start;  // where the kept presolve started: "tree" or "current"
   SolveSummary solve;
   double max_translation_change = 0;  // metres, over all poses
@@ -214,8 +215,8 @@ struct RefineResult {
 };
 
 struct RefineRun {
-  bool quiet = false;               // no per-iteration log line
-  bool keep_iterations = false;     // fill RefineResult::iteration_poses
+  bool quiet = false;            // no per-iteration log line
+  bool keep_iterations = false;  // fill RefineResult::iteration_poses
   // For tests: called with each iteration's correspondences before the solve, to make an
   // iteration go wrong on purpose (the self-check's test).
   std::function<void(int iteration, std::vector<FeatureCorrespondence>*)> tamper;
@@ -228,9 +229,8 @@ FeatureIndex BuildFeatureIndex(const FeatureSet& features, const FeatureIndexOpt
 // entry per frame; `keyframes` the SIFT of keyframes (refine/keyframes.h), empty for none
 // (then no E_M).
 RefineResult RefineFineToCoarse(const FeatureIndex& index, const std::vector<PairAlignment>& pairs,
-                                const Trajectory& t0, const CameraIntrinsics& intrinsics,
-                                const RefineOptions& options, const RefineRun& run = {},
-                                std::vector<Keyframe> keyframes = {});
+                                const Trajectory& t0, const CameraIntrinsics& intrinsics, const RefineOptions& options,
+                                const RefineRun& run = {}, std::vector<Keyframe> keyframes = {});
 
 // Camera path from the first frame to each frame (metres).
 std::vector<double> CameraPath(const Trajectory& trajectory);

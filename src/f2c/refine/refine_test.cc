@@ -113,8 +113,8 @@ struct ExactRoom {
   RefineResult Refine() const {
     RefineRun run;
     run.quiet = true;
-    return RefineFineToCoarse(BuildFeatureIndex(scan.features, options.features), pairs, t0, scan.intrinsics,
-                              options, run);
+    return RefineFineToCoarse(BuildFeatureIndex(scan.features, options.features), pairs, t0, scan.intrinsics, options,
+                              run);
   }
   // The largest error of any pose relative to frame 0: metres and degrees.
   std::pair<double, double> MaxError(const PoseVector& poses) const {
@@ -138,13 +138,13 @@ struct ExactRoom {
 TEST(KeepSecondPresolve, ComparesTheGraphCostWithoutInertia) {
   SolveSummary tree, current;
   tree.usable = current.usable = true;
-  tree.cost_after = {{"E_L", 2.0}, {"E_M", 1.0}, {"E_V", 0.5}, {"E_I", 0.1}};     // 3.5 without E_I
-  current.cost_after = {{"E_L", 1.0}, {"E_M", 1.5}, {"E_V", 0.5}, {"E_I", 2.0}};  // 3.0 without E_I
+  tree.cost_after = {{Term::kL, 2.0}, {Term::kM, 1.0}, {Term::kV, 0.5}, {Term::kI, 0.1}};     // 3.5 without E_I
+  current.cost_after = {{Term::kL, 1.0}, {Term::kM, 1.5}, {Term::kV, 0.5}, {Term::kI, 2.0}};  // 3.0 without E_I
   EXPECT_TRUE(KeepSecondPresolve(tree, current));
   EXPECT_FALSE(KeepSecondPresolve(current, tree));
-  current.cost_after["E_M"] = 2.0;  // 3.5: a tie keeps the first
+  current.cost_after[Term::kM] = 2.0;  // 3.5: a tie keeps the first
   EXPECT_FALSE(KeepSecondPresolve(tree, current));
-  current.cost_after["E_M"] = 1.5;
+  current.cost_after[Term::kM] = 1.5;
   current.usable = false;  // a failed solve is never kept...
   EXPECT_FALSE(KeepSecondPresolve(tree, current));
   current.usable = true;

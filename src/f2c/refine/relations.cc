@@ -9,9 +9,7 @@
 
 namespace f2c {
 
-void RelationOptions::Check() const {
-  CheckFields(*this);
-}
+void RelationOptions::Check() const { CheckFields(*this); }
 
 bool ClassifyRelation(double theta, const RelationOptions& options, RelationType* type, double* weight) {
   const double targets[kRelationTypeCount] = {0.0, M_PI, M_PI / 2};
@@ -34,9 +32,12 @@ namespace {
 
 double TargetAngle(RelationType type) {
   switch (type) {
-    case RelationType::kParallel: return 0;
-    case RelationType::kAntiparallel: return M_PI;
-    case RelationType::kOrthogonal: return M_PI / 2;
+    case RelationType::kParallel:
+      return 0;
+    case RelationType::kAntiparallel:
+      return M_PI;
+    case RelationType::kOrthogonal:
+      return M_PI / 2;
   }
   return 0;
 }
@@ -87,8 +88,8 @@ std::vector<PlaneRelation> DetectRelations(const ProxyHierarchy& h, const Relati
     if (!ClassifyRelation(std::acos(cosine), options, &type, &weight)) return;
     if (options.covisible_tolerance_deg > 0) {
       const auto it = seen_together.find(PairKey(a, b));
-      if (it != seen_together.end() &&
-          std::abs(it->second.first / it->second.second - TargetAngle(type)) > options.covisible_tolerance_deg * M_PI / 180) {
+      if (it != seen_together.end() && std::abs(it->second.first / it->second.second - TargetAngle(type)) >
+                                           options.covisible_tolerance_deg * M_PI / 180) {
         local.dropped_covisible++;
         return;
       }

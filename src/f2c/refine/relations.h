@@ -29,7 +29,7 @@ struct RelationOptions {
   double sigma_deg = 7.5;
   double max_angle_deg = 27;  // 0.15 pi
   double min_weight = 0.1;
-  bool adjacent_windows = true;             // also between parents of windows j and j + 1
+  bool adjacent_windows = true;        // also between parents of windows j and j + 1
   double covisible_tolerance_deg = 3;  // 0: no check
   // Beyond the paper: each parent keeps its relations to at most this many partners, the
   // strongest first (w_ab times the smaller parent's inliers); 0: all, as the paper. All
@@ -39,8 +39,10 @@ struct RelationOptions {
   template <class V>
   void Fields(V& v) {
     v.Group("Refinement: planar structure (paper 4.2-4.3)");
-    F2C_FIELD(v, sigma_deg, "--relation-sigma", Positive(), "relations: sigma of the Gaussian weight on the angle (deg)");
-    v.Field(max_angle_deg, "max_angle_deg", "--relation-max-angle", Bounds{.min = 0, .max = 45, .min_open = true, .max_open = true},
+    F2C_FIELD(v, sigma_deg, "--relation-sigma", Positive(),
+              "relations: sigma of the Gaussian weight on the angle (deg)");
+    v.Field(max_angle_deg, "max_angle_deg", "--relation-max-angle",
+            Bounds{.min = 0, .max = 45, .min_open = true, .max_open = true},
             "relations: admitted within this of 0, 90, 180 deg (deg)");
     v.Field(min_weight, "min_weight", "--relation-min-weight", Bounds{.min = 0, .max = 1, .max_open = true},
             "relations: and with a weight above this");
@@ -49,7 +51,8 @@ struct RelationOptions {
     F2C_FIELD(v, max_per_parent, "--relations-per-parent", AtLeast(0),
               "each parent keeps its strongest relations to at most this many others (0: all, as the paper)");
     F2C_FIELD(v, covisible_tolerance_deg, "--relation-covisible-tolerance", AtLeast(0),
-              "drop a relation when images that see both parents measure their angle farther than this from it (deg; 0: off)");
+              "drop a relation when images that see both parents measure their angle farther than this from it (deg; "
+              "0: off)");
   }
   void Check() const;  // InputError naming the option when out of range
 };

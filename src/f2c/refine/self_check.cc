@@ -50,7 +50,8 @@ SelfCheckScore ScoreHeldOut(const std::vector<FramePair>& pairs, const FeatureIn
       // held-out features, the same ones before and after an iteration.
       const int size = from.size();
       const int start = size > 0 ? static_cast<int>((static_cast<uint64_t>(pairs[p].a) * 0x9E3779B1u +
-                                                     static_cast<uint64_t>(pairs[p].b) * 0x85EBCA77u) % size)
+                                                     static_cast<uint64_t>(pairs[p].b) * 0x85EBCA77u) %
+                                                    size)
                                  : 0;
       int measured = 0;
       for (int j = 0; j < size && measured < options.points_per_pair; ++j) {

@@ -42,15 +42,15 @@ struct SelfCheckOptions {
   // One plane feature in `every` is held out (chosen by a hash of frame and feature, so the
   // same ones each iteration).
   int every = 10;
-  double tau = 0.03;            // metres: the truncation
-  double search_radius = 0.1;   // metres: the nearest features considered
-  double max_angle_deg = 30;    // normals that agree
+  double tau = 0.03;           // metres: the truncation
+  double search_radius = 0.1;  // metres: the nearest features considered
+  double max_angle_deg = 30;   // normals that agree
   int neighbours = 4;
   // Held-out features measured per pair and side, at most (from a point of the frame's list
   // chosen by the pair, onwards): the score's cost is linear in them, and a scan's thousands
   // of pairs give it hundreds of thousands of points without all of each frame's.
   int points_per_pair = 8;
-  double tolerance = 0.01;      // S may grow by this share before an iteration is undone
+  double tolerance = 0.01;  // S may grow by this share before an iteration is undone
   // ...and over the whole run (initial poses against final), before the initial poses are
   // given back: each iteration may add up to `tolerance`.
   double run_tolerance = 0.01;
@@ -78,8 +78,8 @@ struct SelfCheckOptions {
 bool HeldOut(int frame, int feature, int every);
 
 struct SelfCheckScore {
-  double score = 0;   // S (m^2)
-  int64_t points = 0;  // N
+  double score = 0;      // S (m^2)
+  int64_t points = 0;    // N
   int64_t agreeing = 0;  // of those, the ones within tau
   int pairs = 0;
   double Rms() const;  // sqrt(S), metres
@@ -108,9 +108,9 @@ struct CheckPairCache {
 
 // One iteration's check.
 struct SelfCheckRecord {
-  bool done = false;     // the check ran
+  bool done = false;  // the check ran
   SelfCheckScore before, after;
-  bool undone = false;   // the iteration was not taken
+  bool undone = false;  // the iteration was not taken
 };
 
 nlohmann::json ToJson(const SelfCheckRecord& record);

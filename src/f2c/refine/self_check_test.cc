@@ -59,7 +59,8 @@ TEST(ScoreHeldOut, MeanSquaredTruncatedPointToPlaneDisagreement) {
   // At most points_per_pair (8) held-out features of each side of a pair.
   EXPECT_EQ(ScoreHeldOut(pairs, TwoViewsOfAWall(Eigen::Vector3f::Zero()), TruePoses(), kCamera, o, 5.0).points, 16);
   o.points_per_pair = 1000;
-  const SelfCheckScore exact = ScoreHeldOut(pairs, TwoViewsOfAWall(Eigen::Vector3f::Zero()), TruePoses(), kCamera, o, 5.0);
+  const SelfCheckScore exact =
+      ScoreHeldOut(pairs, TwoViewsOfAWall(Eigen::Vector3f::Zero()), TruePoses(), kCamera, o, 5.0);
   EXPECT_GT(exact.points, 150);
   EXPECT_LT(exact.Rms(), 1e-6);
   EXPECT_EQ(exact.agreeing, exact.points);
@@ -116,7 +117,8 @@ TEST(FindCorrespondences, LeavesHeldOutFeaturesAlone) {
   for (int frame = 0; frame < 2; ++frame) {
     const FeatureCloud& planes = index.frames[frame]->family(FeatureFamily::kPlane);
     for (int i = 0; i < planes.size(); ++i) {
-      if (HeldOut(frame, i, o.held_out_every)) held.insert({frame, planes.point(i).x(), planes.point(i).y(), planes.point(i).z()});
+      if (HeldOut(frame, i, o.held_out_every))
+        held.insert({frame, planes.point(i).x(), planes.point(i).y(), planes.point(i).z()});
     }
   }
   ASSERT_GT(held.size(), 100u);

@@ -12,9 +12,7 @@
 
 namespace f2c {
 
-void SiftLoopOptions::Check() const {
-  CheckFields(*this);
-}
+void SiftLoopOptions::Check() const { CheckFields(*this); }
 
 SiftLoopMatcher::SiftLoopMatcher(std::vector<Keyframe> keyframes, std::vector<double> confidence,
                                  const SiftLoopOptions& options)
@@ -167,7 +165,8 @@ SiftLoopStats SiftLoopMatcher::Update(const WindowSchedule& schedule, int iterat
 }
 
 nlohmann::json ToJson(const SiftLoopStats& s) {
-  return {{"tried", s.tried}, {"accepted", s.accepted}, {"pairs", s.pairs}, {"points", s.points}, {"seconds", s.seconds}};
+  return {
+      {"tried", s.tried}, {"accepted", s.accepted}, {"pairs", s.pairs}, {"points", s.points}, {"seconds", s.seconds}};
 }
 
 }  // namespace f2c

@@ -51,10 +51,10 @@ struct SiftLoopOptions {
   // least this share must lie within check_distance of the plane of a's nearest plane feature
   // (within check_radius), whose normal agrees within check_angle.
   double min_fitness = 0.3;
-  double check_distance = 0.05;   // metres (depth noise at 3 m is about 2 cm, and both frames have it)
-  double check_radius = 0.2;      // metres
+  double check_distance = 0.05;  // metres (depth noise at 3 m is about 2 cm, and both frames have it)
+  double check_radius = 0.2;     // metres
   double check_angle_deg = 20;
-  int max_points_per_pair = 30;   // inliers kept per matched pair
+  int max_points_per_pair = 30;  // inliers kept per matched pair
   // In an iteration that accepted new matches, first solve E_M + E_L + E_I to convergence
   // (refine/refine.h), so closest points are searched under the poses the loops imply.
   bool presolve = true;
@@ -83,14 +83,18 @@ struct SiftLoopOptions {
     F2C_FIELD(v, candidates_per_keyframe, "--loop-candidates", AtLeast(1),
               "new loop (and bridge) partners per keyframe and iteration");
     F2C_FIELD(v, loop_gap, "--loop-gap", AtLeast(1), "loops: keyframes at least this many frames apart");
-    F2C_FIELD(v, max_bridge_gap, "--bridge-gap", AtLeast(1), "bridges over weak odometry: at most this many frames apart");
+    F2C_FIELD(v, max_bridge_gap, "--bridge-gap", AtLeast(1),
+              "bridges over weak odometry: at most this many frames apart");
     F2C_FIELD(v, weak_confidence, "", Between(0, 1), "bridges: odometry pairs below this E_L confidence");
-    F2C_FIELD(v, max_camera_distance, "--loop-max-distance", Positive(), "loops: cameras at most this far apart now (m)");
-    F2C_FIELD(v, max_view_angle_deg, "--loop-max-view-angle", AboveUpTo(0, 180), "loops: optical axes within this now (deg)");
+    F2C_FIELD(v, max_camera_distance, "--loop-max-distance", Positive(),
+              "loops: cameras at most this far apart now (m)");
+    F2C_FIELD(v, max_view_angle_deg, "--loop-max-view-angle", AboveUpTo(0, 180),
+              "loops: optical axes within this now (deg)");
     F2C_FIELD(v, ratio, "--loop-ratio", AboveUpTo(0, 1), "loops: SIFT ratio test");
     v.Nested(ransac, "ransac", /*flags=*/false);
     F2C_FIELD(v, min_inliers, "--loop-min-inliers", AtLeast(3), "loops: RANSAC inliers needed");
-    F2C_FIELD(v, min_fitness, "--loop-min-fitness", Between(0, 1), "loops: share of seen planes the match must explain");
+    F2C_FIELD(v, min_fitness, "--loop-min-fitness", Between(0, 1),
+              "loops: share of seen planes the match must explain");
     F2C_FIELD(v, check_distance, "", Positive(), "depth check: plane distance (m)");
     F2C_FIELD(v, check_radius, "", Positive(), "depth check: nearest plane feature within (m)");
     F2C_FIELD(v, check_angle_deg, "", AboveUpTo(0, 180), "depth check: normals within (deg)");
@@ -108,10 +112,10 @@ struct SiftLoopOptions {
 };
 
 struct SiftLoopStats {
-  int tried = 0;           // this iteration
-  int accepted = 0;        // this iteration
-  int pairs = 0;           // matched pairs so far
-  int points = 0;          // E_M constraints so far
+  int tried = 0;     // this iteration
+  int accepted = 0;  // this iteration
+  int pairs = 0;     // matched pairs so far
+  int points = 0;    // E_M constraints so far
   double seconds = 0;
 };
 
@@ -132,7 +136,7 @@ class SiftLoopMatcher {
                std::vector<PointMatch>* out, LoopEdge* edge) const;
 
   std::vector<Keyframe> keyframes_;
-  std::vector<int> weak_prefix_;      // weak odometry pairs among frames 1..k
+  std::vector<int> weak_prefix_;  // weak odometry pairs among frames 1..k
   SiftLoopOptions options_;
   std::set<std::pair<int, int>> tried_;
   std::vector<PointMatch> matches_;

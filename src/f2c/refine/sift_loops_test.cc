@@ -146,8 +146,8 @@ TEST(SiftLoopMatcher, OnlyALoopThatDisagreesWithThePosesReplacesThem) {
   const int loop_iteration = 3;
 
   const Trajectory drifted = scene.Path(scene.drifted_b);
-  const RefineResult placed =
-      RefineFineToCoarse(index, CornerLoop::Pairs(drifted), drifted, testing::TestIntrinsics(), options, run, scene.Keyframes());
+  const RefineResult placed = RefineFineToCoarse(index, CornerLoop::Pairs(drifted), drifted, testing::TestIntrinsics(),
+                                                 options, run, scene.Keyframes());
   ASSERT_GT(static_cast<int>(placed.iterations.size()), loop_iteration);
   for (int it = 0; it < loop_iteration; ++it) EXPECT_EQ(placed.iterations[it].loops.accepted, 0) << it;
   EXPECT_EQ(placed.iterations[loop_iteration].loops.accepted, 1);
@@ -160,8 +160,8 @@ TEST(SiftLoopMatcher, OnlyALoopThatDisagreesWithThePosesReplacesThem) {
   EXPECT_LT(r_after, 1.0);
 
   const Trajectory truth = scene.Path(scene.truth_b);
-  const RefineResult kept =
-      RefineFineToCoarse(index, CornerLoop::Pairs(truth), truth, testing::TestIntrinsics(), options, run, scene.Keyframes());
+  const RefineResult kept = RefineFineToCoarse(index, CornerLoop::Pairs(truth), truth, testing::TestIntrinsics(),
+                                               options, run, scene.Keyframes());
   ASSERT_GT(static_cast<int>(kept.iterations.size()), loop_iteration);
   EXPECT_EQ(kept.iterations[loop_iteration].loops.accepted, 1);
   EXPECT_TRUE(kept.iterations[loop_iteration].presolve.termination.empty()) << "the loop agrees: no re-placement";
@@ -198,7 +198,7 @@ TEST(SiftLoopMatcher, TheLoopPresolveKeepsTheBetterOfTwoStarts) {
     const IterationSummary& s = r.iterations.at(loop_iteration);
     EXPECT_FALSE(s.presolve.termination.empty()) << "the loop disagrees: presolved";
     double cost = 0;
-    for (const auto& [term, value] : s.presolve.cost_after) cost += term == "E_I" ? 0.0 : value;
+    for (const auto& [term, value] : s.presolve.cost_after) cost += term == Term::kI ? 0.0 : value;
     return std::make_pair(cost, s.presolve_start);
   };
   const auto [tree_cost, tree_start] = presolve(true, false);
@@ -218,7 +218,7 @@ TEST(KeyframeStore, OfferedKeyframesAreCachedAndReadBack) {
   const Rigid3d pose = Pose3(0, {0, 0, -0.6});
   const fs::path dir = testing::FreshTempDir("keyframe_store");
   std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> poses = {pose, Pose3(2, {0.02, 0, -0.6}),
-                                                                    Pose3(4, {0.04, 0, -0.6})};
+                                                                   Pose3(4, {0.04, 0, -0.6})};
   testing::WriteTumSequence(dir / "scan", testing::SyntheticScene(), testing::TestIntrinsics(), poses);
   IoOptions io;
   io.intrinsics = "525,525,319.5,239.5";

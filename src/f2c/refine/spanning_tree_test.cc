@@ -85,7 +85,7 @@ TEST(LoopDisagreement, TheMedianOfTheNewestEdges) {
   // Per edge 0.01 (the translation beats 0.5 deg at 1 m, 0.0087), 0.02, 0.015, 0.698: the
   // (upper) median is 0.02.
   EXPECT_NEAR(LoopDisagreement(poses, loops, 4, 1.0), 0.02, 1e-9);
-  EXPECT_NEAR(LoopDisagreement(poses, loops, 100, 1.0), 0.02, 1e-9);  // more than there are: all
+  EXPECT_NEAR(LoopDisagreement(poses, loops, 100, 1.0), 0.02, 1e-9);           // more than there are: all
   EXPECT_NEAR(LoopDisagreement(poses, loops, 1, 1.0), 40 * M_PI / 180, 1e-9);  // the newest alone
   EXPECT_EQ(LoopDisagreement(poses, loops, 0, 1.0), 0.0);
   // The rotation counts at the lever arm: 0.5 deg at 3 m is 2.6 cm.

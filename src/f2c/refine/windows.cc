@@ -10,9 +10,7 @@
 
 namespace f2c {
 
-void WindowOptions::Check() const {
-  CheckFields(*this);
-}
+void WindowOptions::Check() const { CheckFields(*this); }
 
 WindowSchedule::WindowSchedule(const WindowOptions& options, std::vector<double> path) : options_(options) {
   options.Check();
@@ -61,7 +59,8 @@ std::vector<Window> WindowSchedule::Windows(int iteration) const {
   for (int j = 0; j <= LastWindow(iteration); ++j) {
     Window w;
     w.begin = static_cast<int>(std::lower_bound(position_.begin(), position_.end(), j * half) - position_.begin());
-    w.end = static_cast<int>(std::lower_bound(position_.begin(), position_.end(), j * half + length) - position_.begin());
+    w.end =
+        static_cast<int>(std::lower_bound(position_.begin(), position_.end(), j * half + length) - position_.begin());
     if (w.end > w.begin) windows.push_back(w);
   }
   return windows;

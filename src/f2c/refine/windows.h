@@ -56,7 +56,8 @@ struct WindowOptions {
     F2C_FIELD(v, initial_frames, "--window-frames", AtLeast(2), "l_0, frames in the first windows");
     F2C_FIELD(v, initial_path, "--window-path", Positive(), "path windows: the first windows' length (m)");
     F2C_FIELD(v, path_cap, "--window-path-cap", AtLeast(1), "path windows: longest window, times the scan's path");
-    F2C_FIELD(v, extra_iterations, "--extra-iterations", AtLeast(0), "iterations after one window holds the whole scan");
+    F2C_FIELD(v, extra_iterations, "--extra-iterations", AtLeast(0),
+              "iterations after one window holds the whole scan");
     F2C_FIELD(v, polish_iterations, "--polish-iterations", AtLeast(0),
               "then this many more with the polish thresholds (beyond the paper; 0: the paper's schedule only)");
     F2C_FIELD(v, polish_tolerance, "--polish-tolerance", Positive(),
@@ -104,6 +105,5 @@ class WindowSchedule {
   std::vector<double> position_;  // frame index, or path
   int iterations_ = 0;
 };
-
 
 }  // namespace f2c

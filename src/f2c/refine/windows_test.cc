@@ -63,9 +63,9 @@ TEST(WindowSchedule, SharingAgreesWithTheWindowsAndStartsWhenTheyGrow) {
     }
   }
   EXPECT_EQ(s.FirstShared(0, 3), 0);
-  EXPECT_EQ(s.FirstShared(2, 5), 0);   // window [2, 6)
-  EXPECT_EQ(s.FirstShared(1, 4), 1);   // no window of 4 holds both
-  EXPECT_EQ(s.FirstShared(1, 6), 1);   // l = 8: window [0, 8)
+  EXPECT_EQ(s.FirstShared(2, 5), 0);  // window [2, 6)
+  EXPECT_EQ(s.FirstShared(1, 4), 1);  // no window of 4 holds both
+  EXPECT_EQ(s.FirstShared(1, 6), 1);  // l = 8: window [0, 8)
   EXPECT_EQ(s.FirstShared(3, 4), 0);
   EXPECT_EQ(s.FirstShared(0, 36), 4);  // l = 64
   EXPECT_EQ(s.ShareEnd(0, 5), 8);      // window [4, 8)

@@ -15,7 +15,8 @@ namespace f2c {
 namespace fs = std::filesystem;
 
 std::string InlineImage(const std::string& bytes, const std::string& mime, const std::string& alt, int width) {
-  return fmt::format("<img width=\"{}\" alt=\"{}\" src=\"data:{};base64,{}\">\n", width, EscapeXml(alt), mime, Base64(bytes));
+  return fmt::format("<img width=\"{}\" alt=\"{}\" src=\"data:{};base64,{}\">\n", width, EscapeXml(alt), mime,
+                     Base64(bytes));
 }
 
 std::string ThreeJs() {

@@ -135,10 +135,9 @@ cv::Mat RenderMesh(const PlyPoints& mesh, const MeshView& v) {
         const float s = w0 * shade[f[0]] + w1 * shade[f[1]] + w2 * shade[f[2]];
         cv::Vec3b& out = image.at<cv::Vec3b>(y, x);
         for (int ch = 0; ch < 3; ++ch) {
-          const float colour = mesh.colors.empty()
-                                   ? 200.0f
-                                   : w0 * mesh.colors[f[0]][2 - ch] + w1 * mesh.colors[f[1]][2 - ch] +
-                                         w2 * mesh.colors[f[2]][2 - ch];  // stored RGB, drawn BGR
+          const float colour = mesh.colors.empty() ? 200.0f
+                                                   : w0 * mesh.colors[f[0]][2 - ch] + w1 * mesh.colors[f[1]][2 - ch] +
+                                                         w2 * mesh.colors[f[2]][2 - ch];  // stored RGB, drawn BGR
           out[ch] = static_cast<uint8_t>(std::clamp(colour * s, 0.0f, 255.0f));
         }
       }

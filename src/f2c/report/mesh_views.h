@@ -14,7 +14,7 @@ struct MeshView {
   Eigen::Matrix3d camera_from_world = Eigen::Matrix3d::Identity();  // rows: image right, image down, viewing direction
   Eigen::Vector3d eye = Eigen::Vector3d::Zero();                    // camera position (world)
   bool orthographic = false;
-  double focal = 500;   // pixels per unit of x/z (perspective) or per metre (orthographic)
+  double focal = 500;  // pixels per unit of x/z (perspective) or per metre (orthographic)
   int width = 1024, height = 768;
 };
 

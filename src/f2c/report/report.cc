@@ -155,7 +155,8 @@ std::string View3d(const ReportInput& in) {
   for (const Eigen::Vector3f& p : in.camera_path) path.insert(path.end(), p.data(), p.data() + 3);
   std::vector<uint8_t> colors;
   for (size_t i = 0; i < in.points.size(); ++i) {
-    const std::array<uint8_t, 3> c = i < in.point_colors.size() ? in.point_colors[i] : std::array<uint8_t, 3>{90, 90, 90};
+    const std::array<uint8_t, 3> c =
+        i < in.point_colors.size() ? in.point_colors[i] : std::array<uint8_t, 3>{90, 90, 90};
     colors.insert(colors.end(), c.begin(), c.end());
   }
   return fmt::format(R"(<canvas id="view3d" width="1000" height="640" style="border:1px solid #ccc"></canvas>
@@ -202,7 +203,8 @@ std::string View3d(const ReportInput& in) {
 
 // The slice from above under each set of poses, on shared axes: x along the result's slice
 // points' main direction, y across it; one dot per occupied cell of a 1/500-extent grid.
-std::string SliceSection(const ReportInput& in, const std::vector<std::pair<const ReportTrajectory*, Rigid3d>>& estimates) {
+std::string SliceSection(const ReportInput& in,
+                         const std::vector<std::pair<const ReportTrajectory*, Rigid3d>>& estimates) {
   std::vector<std::pair<std::string, std::string>> names;  // name, colour
   std::vector<std::vector<std::optional<Rigid3d>>> pose_sets;
   std::vector<std::optional<Rigid3d>> truth;
@@ -221,7 +223,8 @@ std::string SliceSection(const ReportInput& in, const std::vector<std::pair<cons
     for (size_t k = 0; k < truth.size(); ++k) {
       if (!poses[k] || !truth[k]) continue;
       for (int axis = -1; axis < 3; ++axis) {
-        const Eigen::Vector3d local = axis < 0 ? Eigen::Vector3d(Eigen::Vector3d::Zero()) : Eigen::Vector3d(Eigen::Vector3d::Unit(axis));
+        const Eigen::Vector3d local =
+            axis < 0 ? Eigen::Vector3d(Eigen::Vector3d::Zero()) : Eigen::Vector3d(Eigen::Vector3d::Unit(axis));
         from.push_back(*poses[k] * local), to.push_back(*truth[k] * local);
       }
     }
@@ -281,7 +284,8 @@ std::string SliceSection(const ReportInput& in, const std::vector<std::pair<cons
     for (const auto& q : slices[s]) {
       const double x = q.dot(a), y = q.dot(b);
       if (x < x0 || x > x1 || y < y0 || y > y1) continue;
-      int& drawn = seen.At(PackCoords({static_cast<int>(std::floor((x - x0) / cell)), static_cast<int>(std::floor((y - y0) / cell)), 0}));
+      int& drawn = seen.At(PackCoords(
+          {static_cast<int>(std::floor((x - x0) / cell)), static_cast<int>(std::floor((y - y0) / cell)), 0}));
       if (drawn >= 0) continue;
       drawn = 1;
       dots.x.push_back(x), dots.y.push_back(y);
@@ -293,7 +297,9 @@ std::string SliceSection(const ReportInput& in, const std::vector<std::pair<cons
          Note(fmt::format("The points of {} frames within {:.2f} m of {:.2f} m height (the layer with the most wall "
                           "points), seen from above{}. A consistent registration draws each wall once, as a thin line.",
                           in.slice_frames.size(), 0.5 * band.thickness, band.height,
-                          in.ground_truth ? "; each estimate rigidly aligned to the ground truth by its poses (positions and axes)" : ""));
+                          in.ground_truth
+                              ? "; each estimate rigidly aligned to the ground truth by its poses (positions and axes)"
+                              : ""));
 }
 
 }  // namespace
@@ -322,9 +328,11 @@ std::string BuildReport(const ReportInput& in) {
       "section{{margin:2em 0}}.plots svg{{margin:4px}}.note{{color:#666}}</style></head><body>\n<h1>{0}</h1>\n",
       EscapeXml(in.title));
   std::string facts = "<table>\n";
-  for (const auto& [k, v] : in.facts) facts += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", EscapeXml(k), EscapeXml(v));
+  for (const auto& [k, v] : in.facts)
+    facts += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", EscapeXml(k), EscapeXml(v));
   if (!in.options_json.empty()) {
-    facts += "</table>\n<details><summary>Options (run.json)</summary><pre>" + EscapeXml(in.options_json) + "</pre></details>\n";
+    facts += "</table>\n<details><summary>Options (run.json)</summary><pre>" + EscapeXml(in.options_json) +
+             "</pre></details>\n";
   } else {
     facts += "</table>\n";
   }
@@ -334,13 +342,14 @@ std::string BuildReport(const ReportInput& in) {
   // the true pose at each of its frames (nearest stamp within max_time_difference).
   struct Aligned {
     const ReportTrajectory* estimate;
-    std::vector<Rigid3d> poses;                  // every pose of the estimate, aligned
-    std::vector<std::optional<Rigid3d>> truth;   // per pose: the ground truth, if associated
+    std::vector<Rigid3d> poses;                 // every pose of the estimate, aligned
+    std::vector<std::optional<Rigid3d>> truth;  // per pose: the ground truth, if associated
     Rigid3d gt_from_estimate = Rigid3d::Identity();
   };
   std::vector<Aligned> aligned;
   std::vector<Eigen::Vector3d> all_points;
-  const Trajectory* frame = in.ground_truth ? &*in.ground_truth : (in.estimates.empty() ? nullptr : &in.estimates.back().trajectory);
+  const Trajectory* frame =
+      in.ground_truth ? &*in.ground_truth : (in.estimates.empty() ? nullptr : &in.estimates.back().trajectory);
   if (frame) {
     for (const auto& p : frame->world_from_camera) all_points.push_back(p.translation());
   }
@@ -411,9 +420,10 @@ std::string BuildReport(const ReportInput& in) {
     }
     maps += RenderSvg(p);
   }
-  html += Section("Trajectories", maps + "</div>\n" +
-                                      (in.ground_truth ? Note("Each estimate rigidly aligned to the ground truth as for ATE.")
-                                                       : Note("No ground truth: the estimates as they are.")));
+  html += Section("Trajectories",
+                  maps + "</div>\n" +
+                      (in.ground_truth ? Note("Each estimate rigidly aligned to the ground truth as for ATE.")
+                                       : Note("No ground truth: the estimates as they are.")));
   if (!in.slice_frames.empty() && !aligned.empty()) {
     std::vector<std::pair<const ReportTrajectory*, Rigid3d>> estimates;
     for (const Aligned& a : aligned) estimates.emplace_back(a.estimate, a.gt_from_estimate);
@@ -482,11 +492,12 @@ std::string BuildReport(const ReportInput& in) {
             r.rpe_per_second.translation.rmse, r.rpe_per_second.rotation.rmse, r.drift.rotation.rmse,
             r.drift.rotation.max, r.drift_smoothed.rotation.max);
       } catch (const std::exception& e) {
-        stats += fmt::format("<tr><td>{}</td><td colspan=\"11\">{}</td></tr>\n", EscapeXml(a.estimate->name), EscapeXml(e.what()));
+        stats += fmt::format("<tr><td>{}</td><td colspan=\"11\">{}</td></tr>\n", EscapeXml(a.estimate->name),
+                             EscapeXml(e.what()));
       }
     }
-    html += Section("Errors", stats + "</table>\n<div class=\"plots\">\n" + RenderSvg(translation) + RenderSvg(rotation) +
-                                  RenderSvg(gaps) + "</div>\n");
+    html += Section("Errors", stats + "</table>\n<div class=\"plots\">\n" + RenderSvg(translation) +
+                                  RenderSvg(rotation) + RenderSvg(gaps) + "</div>\n");
   }
 
   // The paper's Fig. 9 and the histogram, from ground-truth correspondences.
@@ -503,7 +514,8 @@ std::string BuildReport(const ReportInput& in) {
     hist.y.label = "correspondences";
     std::vector<std::vector<double>> errors;
     double top = 0;
-    std::string table = "<table><tr><th>estimate</th><th>correspondences</th><th>RMSE (m)</th><th>median (m)</th></tr>\n";
+    std::string table =
+        "<table><tr><th>estimate</th><th>correspondences</th><th>RMSE (m)</th><th>median (m)</th></tr>\n";
     for (const ReportTrajectory& e : in.estimates) {
       const auto poses = PosesAtFrames(e.trajectory, in.frame_timestamps, in.max_time_difference);
       std::vector<std::pair<int, double>> by_gap;
@@ -521,8 +533,8 @@ std::string BuildReport(const ReportInput& in) {
       for (const GapBin& b : BinByGap(by_gap)) s.x.push_back(b.gap_lo), s.y.push_back(b.median);
       fig9.series.push_back(s);
       const ErrorStatistics st = ComputeStatistics(all);
-      table += fmt::format("<tr><td>{}</td><td>{}</td><td>{:.4f}</td><td>{:.4f}</td></tr>\n", EscapeXml(e.name), st.count,
-                           st.rmse, st.median);
+      table += fmt::format("<tr><td>{}</td><td>{}</td><td>{:.4f}</td><td>{:.4f}</td></tr>\n", EscapeXml(e.name),
+                           st.count, st.rmse, st.median);
       std::vector<double> sorted = all;
       std::sort(sorted.begin(), sorted.end());
       if (!sorted.empty()) top = std::max(top, sorted[std::min(sorted.size() - 1, sorted.size() * 98 / 100)]);
@@ -536,11 +548,11 @@ std::string BuildReport(const ReportInput& in) {
       for (int b = 0; b < bins; ++b) s.x.push_back((b + 0.5) * top / bins), s.y.push_back(h[b]);
       hist.series.push_back(s);
     }
-    html += Section("Correspondence errors", table + "</table>\n<div class=\"plots\">\n" + RenderSvg(fig9) +
-                                                 RenderSvg(hist) + "</div>\n" +
-                                                 Note(fmt::format("Histogram: {} bins up to the 98th percentile; larger "
-                                                                  "errors are counted in the last bin.",
-                                                                  bins)));
+    html += Section("Correspondence errors",
+                    table + "</table>\n<div class=\"plots\">\n" + RenderSvg(fig9) + RenderSvg(hist) + "</div>\n" +
+                        Note(fmt::format("Histogram: {} bins up to the 98th percentile; larger "
+                                         "errors are counted in the last bin.",
+                                         bins)));
   }
   if (!in.iterations.empty()) html += Section("Refinement", IterationPlots(in.iterations));
   html += Section("3D view", View3d(in));

@@ -24,7 +24,7 @@
 namespace f2c {
 
 struct ReportTrajectory {
-  std::string name;   // "T0", "final", ...
+  std::string name;  // "T0", "final", ...
   Trajectory trajectory;
   std::string color;  // SVG colour
 };
@@ -34,7 +34,7 @@ struct ReportIteration {
   double window_length = 0;  // frames (or metres of path)
   int windows = 0;
   double seconds = 0;
-  std::vector<std::pair<std::string, double>> cost_after;         // per energy term
+  std::vector<std::pair<std::string, double>> cost_after;  // per energy term
   std::vector<std::pair<std::string, int>> correspondences_by_type;
   // The self-check (refine/self_check.h): held-out features' RMS disagreement before and after
   // the iteration (metres; NaN: no check), and whether the iteration was undone.
@@ -69,7 +69,7 @@ struct ReportInput {
   std::vector<SliceFrame> slice_frames;
   SliceOptions slice_options;
   std::string no_slice_reason;  // said in the slice's place when there are no slice frames
-  std::string extra_html;                   // appended as is (pictures, further tables)
+  std::string extra_html;       // appended as is (pictures, further tables)
 };
 
 // The whole page (UTF-8). Sections without their data (no ground truth, no correspondences)

@@ -58,7 +58,8 @@ TEST(BuildReport, EverySectionWithPlotsThatParse) {
     const Rigid3d camera_from_world = in.ground_truth->world_from_camera[i].inverse();
     for (int k = 0; k < 200; ++k) {
       const bool wall = k % 2;
-      const Eigen::Vector3d p = wall ? Eigen::Vector3d(3, -1 + 0.01 * k, 0.01 * k) : Eigen::Vector3d(0.01 * k, 1, 0.01 * k);
+      const Eigen::Vector3d p =
+          wall ? Eigen::Vector3d(3, -1 + 0.01 * k, 0.01 * k) : Eigen::Vector3d(0.01 * k, 1, 0.01 * k);
       const Eigen::Vector3d n = wall ? Eigen::Vector3d(-1, 0, 0) : Eigen::Vector3d(0, -1, 0);
       f.points.push_back((camera_from_world * p).cast<float>());
       f.normals.push_back((camera_from_world.linear() * n).cast<float>());
@@ -70,7 +71,8 @@ TEST(BuildReport, EverySectionWithPlotsThatParse) {
   const std::string html_with_options = BuildReport(in);
   EXPECT_NE(html_with_options.find("<summary>Options (run.json)</summary><pre>{&quot;refine&quot;"), std::string::npos);
   in.options_json.clear();
-  for (const char* s : {"<h2>Run</h2>", "<h2>Top-down slice of the registered points</h2>", "<th>ATE RMSE (m)</th>", "<h2>Trajectories</h2>", "<h2>Errors</h2>", "<h2>Correspondence errors</h2>",
+  for (const char* s : {"<h2>Run</h2>", "<h2>Top-down slice of the registered points</h2>", "<th>ATE RMSE (m)</th>",
+                        "<h2>Trajectories</h2>", "<h2>Errors</h2>", "<h2>Correspondence errors</h2>",
                         "<h2>Refinement</h2>", ">E_P</text>", ">silhouette</text>",
                         "Self-check: how far held-out features lie off", ">undone: what it would have been</text>",
                         "the paper&#39;s Fig. 9", "test &lt;run&gt;", ">ICP / motion prior<"}) {
@@ -86,7 +88,7 @@ TEST(BuildReport, EverySectionWithPlotsThatParse) {
     EXPECT_EQ(svg.find("no data"), std::string::npos) << svg.substr(0, 200);
     ++svgs;
   }
-  EXPECT_EQ(svgs, 15);  // 2 maps, 3 slices, 3 error plots, Fig. 9, histogram, 5 per-iteration plots
+  EXPECT_EQ(svgs, 15);               // 2 maps, 3 slices, 3 error plots, Fig. 9, histogram, 5 per-iteration plots
   EXPECT_EQ(html, BuildReport(in));  // the same bytes every time
 
   // Without ground truth or correspondences: the maps, and lines saying what is missing.
@@ -97,7 +99,8 @@ TEST(BuildReport, EverySectionWithPlotsThatParse) {
   EXPECT_NE(b.find("No ground-truth correspondences"), std::string::npos);
   EXPECT_EQ(b.find("<h2>Top-down slice"), std::string::npos);  // no frames, no reason: no section
   bare.no_slice_reason = "pass --intrinsics";
-  EXPECT_NE(BuildReport(bare).find("<h2>Top-down slice of the registered points</h2>\n<p class=\"note\">pass --intrinsics</p>"),
+  EXPECT_NE(BuildReport(bare).find(
+                "<h2>Top-down slice of the registered points</h2>\n<p class=\"note\">pass --intrinsics</p>"),
             std::string::npos);
 }
 

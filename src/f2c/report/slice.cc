@@ -9,9 +9,7 @@
 
 namespace f2c {
 
-void SliceOptions::Check() const {
-  CheckFields(*this);
-}
+void SliceOptions::Check() const { CheckFields(*this); }
 
 SliceBand ChooseSliceBand(const std::vector<SliceFrame>& frames, const std::vector<std::optional<Rigid3d>>& poses,
                           const SliceOptions& options) {
@@ -47,11 +45,12 @@ SliceBand ChooseSliceBand(const std::vector<SliceFrame>& frames, const std::vect
     for (const auto& p : poses) {
       if (p) band.height += p->translation().dot(band.up);
     }
-    band.height /= static_cast<double>(std::count_if(poses.begin(), poses.end(), [](const auto& p) { return p.has_value(); }));
+    band.height /=
+        static_cast<double>(std::count_if(poses.begin(), poses.end(), [](const auto& p) { return p.has_value(); }));
     return band;
   }
-  const auto best = std::max_element(walls.begin(), walls.end(),
-                                     [](const auto& a, const auto& b) { return a.second < b.second; });
+  const auto best =
+      std::max_element(walls.begin(), walls.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
   band.height = (static_cast<double>(best->first) + 0.5) * options.bin;
   return band;
 }

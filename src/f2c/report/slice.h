@@ -18,9 +18,9 @@ struct SliceFrame {
 };
 
 struct SliceOptions {
-  double thickness = 0.2;      // m: the slab's height
-  double bin = 0.1;            // m: height bins when choosing where the slab goes
-  double wall_max_cos = 0.3;   // a wall point: |normal . up| below this (more than 72 degrees from up)
+  double thickness = 0.2;     // m: the slab's height
+  double bin = 0.1;           // m: height bins when choosing where the slab goes
+  double wall_max_cos = 0.3;  // a wall point: |normal . up| below this (more than 72 degrees from up)
 
   template <class V>
   void Fields(V& v) {
@@ -44,11 +44,12 @@ struct SliceBand {
 // the horizontal surfaces' normals (geometry/up.h) near the cameras' mean -y axis; the height
 // is the centre of the `bin`-tall layer holding the most wall points, so the slab crosses the
 // walls where furniture hides them least.
-SliceBand ChooseSliceBand(const std::vector<SliceFrame>& frames, const std::vector<std::optional<Rigid3d>>& world_from_camera,
-                          const SliceOptions& options);
+SliceBand ChooseSliceBand(const std::vector<SliceFrame>& frames,
+                          const std::vector<std::optional<Rigid3d>>& world_from_camera, const SliceOptions& options);
 
 // The points inside the slab, in world coordinates, under the given poses.
 std::vector<Eigen::Vector3d> SlicePoints(const std::vector<SliceFrame>& frames,
-                                         const std::vector<std::optional<Rigid3d>>& world_from_camera, const SliceBand& band);
+                                         const std::vector<std::optional<Rigid3d>>& world_from_camera,
+                                         const SliceBand& band);
 
 }  // namespace f2c

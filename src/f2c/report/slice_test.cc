@@ -39,12 +39,24 @@ Room MakeRoom(int frames) {
     for (int i = 0; i < 600; ++i) {
       const double a = u(rng), b = u(rng);
       switch (i % 6) {
-        case 0: add({-2 + 4 * a, -1.5 + 3 * b, 0}, {0, 0, 1}); break;            // floor
-        case 1: add({-2 + 4 * a, -1.5 + 3 * b, 2.5}, {0, 0, -1}); break;         // ceiling
-        case 2: add({-0.5 + a, -0.4 + 0.8 * b, 0.75}, {0, 0, 1}); break;         // table top
-        case 3: add({2, -1.5 + 3 * a, 2.5 * b}, {-1, 0, 0}); break;              // walls
-        case 4: add({-2, -1.5 + 3 * a, 2.5 * b}, {1, 0, 0}); break;
-        default: add({-2 + 4 * a, (b < 0.5 ? -1.5 : 1.5), 1.0 + u(rng)}, {0, b < 0.5 ? 1.0 : -1.0, 0}); break;  // walls, 1-2 m
+        case 0:
+          add({-2 + 4 * a, -1.5 + 3 * b, 0}, {0, 0, 1});
+          break;  // floor
+        case 1:
+          add({-2 + 4 * a, -1.5 + 3 * b, 2.5}, {0, 0, -1});
+          break;  // ceiling
+        case 2:
+          add({-0.5 + a, -0.4 + 0.8 * b, 0.75}, {0, 0, 1});
+          break;  // table top
+        case 3:
+          add({2, -1.5 + 3 * a, 2.5 * b}, {-1, 0, 0});
+          break;  // walls
+        case 4:
+          add({-2, -1.5 + 3 * a, 2.5 * b}, {1, 0, 0});
+          break;
+        default:
+          add({-2 + 4 * a, (b < 0.5 ? -1.5 : 1.5), 1.0 + u(rng)}, {0, b < 0.5 ? 1.0 : -1.0, 0});
+          break;  // walls, 1-2 m
       }
     }
     room.frames.push_back(std::move(f));

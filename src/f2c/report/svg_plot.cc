@@ -15,12 +15,23 @@ std::string EscapeXml(const std::string& text) {
   out.reserve(text.size());
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -45,7 +56,8 @@ std::vector<double> LinearTicks(double lo, double hi, int target) {
 std::vector<double> LogTicks(double lo, double hi) {
   std::vector<double> ticks;
   if (!(lo > 0 && hi >= lo && std::isfinite(hi))) return ticks;
-  const int a = static_cast<int>(std::floor(std::log10(lo) + 1e-9)), b = static_cast<int>(std::ceil(std::log10(hi) - 1e-9));
+  const int a = static_cast<int>(std::floor(std::log10(lo) + 1e-9)),
+            b = static_cast<int>(std::ceil(std::log10(hi) - 1e-9));
   for (int e = a; e <= b; ++e) {
     const double t = std::pow(10.0, e);
     if (t >= lo * (1 - 1e-9) && t <= hi * (1 + 1e-9)) ticks.push_back(t);
@@ -106,7 +118,8 @@ void Range(const Plot& plot, bool x_axis, double* lo, double* hi) {
 }  // namespace
 
 const char* SeriesColor(int i) {
-  static const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
+  static const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd",
+                                  "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
   return kColors[((i % 8) + 8) % 8];
 }
 
@@ -118,13 +131,15 @@ std::string RenderSvg(const Plot& plot) {
       "font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
       plot.width, plot.height, plot.width, plot.height);
   if (!plot.title.empty()) {
-    svg += fmt::format("<text x=\"{}\" y=\"20\" text-anchor=\"middle\" font-size=\"14\" font-weight=\"bold\">{}</text>\n",
-                       plot.width / 2, EscapeXml(plot.title));
+    svg +=
+        fmt::format("<text x=\"{}\" y=\"20\" text-anchor=\"middle\" font-size=\"14\" font-weight=\"bold\">{}</text>\n",
+                    plot.width / 2, EscapeXml(plot.title));
   }
   double x0, x1, y0, y1;
   Range(plot, true, &x0, &x1);
   Range(plot, false, &y0, &y1);
-  svg += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#888\"/>\n", left, top, w, h);
+  svg += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#888\"/>\n", left, top,
+                     w, h);
   if (!std::isfinite(x0) || !std::isfinite(y0)) {
     svg += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"#888\">no data</text>\n</svg>\n",
                        left + w / 2, top + h / 2);
@@ -143,17 +158,21 @@ std::string RenderSvg(const Plot& plot) {
   auto py = [&](double v) { return top + h * (1 - map(v, y0, y1, plot.y.log)); };
 
   // Grid, ticks and labels.
-  const std::vector<double> xt = plot.x.log ? LogTicks(x0, x1) : LinearTicks(x0, x1, std::max(3, static_cast<int>(w / 90)));
-  const std::vector<double> yt = plot.y.log ? LogTicks(y0, y1) : LinearTicks(y0, y1, std::max(3, static_cast<int>(h / 60)));
+  const std::vector<double> xt =
+      plot.x.log ? LogTicks(x0, x1) : LinearTicks(x0, x1, std::max(3, static_cast<int>(w / 90)));
+  const std::vector<double> yt =
+      plot.y.log ? LogTicks(y0, y1) : LinearTicks(y0, y1, std::max(3, static_cast<int>(h / 60)));
   for (double t : xt) {
-    svg += fmt::format("<line x1=\"{0:.1f}\" y1=\"{1}\" x2=\"{0:.1f}\" y2=\"{2}\" stroke=\"#e4e4e4\"/>"
-                       "<text x=\"{0:.1f}\" y=\"{3}\" text-anchor=\"middle\">{4}</text>\n",
-                       px(t), top, top + h, top + h + 16, Number(t));
+    svg += fmt::format(
+        "<line x1=\"{0:.1f}\" y1=\"{1}\" x2=\"{0:.1f}\" y2=\"{2}\" stroke=\"#e4e4e4\"/>"
+        "<text x=\"{0:.1f}\" y=\"{3}\" text-anchor=\"middle\">{4}</text>\n",
+        px(t), top, top + h, top + h + 16, Number(t));
   }
   for (double t : yt) {
-    svg += fmt::format("<line x1=\"{0}\" y1=\"{1:.1f}\" x2=\"{2}\" y2=\"{1:.1f}\" stroke=\"#e4e4e4\"/>"
-                       "<text x=\"{3}\" y=\"{4:.1f}\" text-anchor=\"end\">{5}</text>\n",
-                       left, py(t), left + w, left - 6, py(t) + 4, Number(t));
+    svg += fmt::format(
+        "<line x1=\"{0}\" y1=\"{1:.1f}\" x2=\"{2}\" y2=\"{1:.1f}\" stroke=\"#e4e4e4\"/>"
+        "<text x=\"{3}\" y=\"{4:.1f}\" text-anchor=\"end\">{5}</text>\n",
+        left, py(t), left + w, left - 6, py(t) + 4, Number(t));
   }
   svg += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", left + w / 2, plot.height - 8,
                      EscapeXml(plot.x.label));
@@ -165,9 +184,10 @@ std::string RenderSvg(const Plot& plot) {
   std::string identity = plot.title + "|" + plot.x.label + "|" + plot.y.label;
   for (const PlotSeries& s : plot.series) identity += "|" + s.name + fmt::format(":{}", s.x.size());
   const std::string clip_id = "clip" + HexString(Fnv1a64(identity));
-  svg += fmt::format("<clipPath id=\"{0}\"><rect x=\"{1}\" y=\"{2}\" width=\"{3}\" height=\"{4}\"/></clipPath>\n"
-                     "<g clip-path=\"url(#{0})\">\n",
-                     clip_id, left, top, w, h);
+  svg += fmt::format(
+      "<clipPath id=\"{0}\"><rect x=\"{1}\" y=\"{2}\" width=\"{3}\" height=\"{4}\"/></clipPath>\n"
+      "<g clip-path=\"url(#{0})\">\n",
+      clip_id, left, top, w, h);
   for (const PlotSeries& s : plot.series) {
     const size_t n = std::min(s.x.size(), s.y.size());
     auto ok = [&](size_t i) { return Usable(s.x[i], plot.x.log) && Usable(s.y[i], plot.y.log); };
@@ -183,21 +203,24 @@ std::string RenderSvg(const Plot& plot) {
         pen_down = true;
       }
       if (!d.empty()) {
-        svg += fmt::format("<path d=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\" stroke-linejoin=\"round\"/>\n", d,
-                           s.color, s.width);
+        svg +=
+            fmt::format("<path d=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\" stroke-linejoin=\"round\"/>\n",
+                        d, s.color, s.width);
       }
     } else if (s.style == PlotSeries::Style::kPoints) {
       for (size_t i = 0; i < n; ++i) {
         if (ok(i)) {
-          svg += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"{}\" fill=\"{}\"/>", px(s.x[i]), py(s.y[i]), s.width,
-                             s.color);
+          svg += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"{}\" fill=\"{}\"/>", px(s.x[i]), py(s.y[i]),
+                             s.width, s.color);
         }
       }
       svg += "\n";
     } else if (s.style == PlotSeries::Style::kDots) {
       std::string d;
       for (size_t i = 0; i < n; ++i) {
-        if (ok(i)) d += fmt::format("M{:.1f} {:.1f}h{}v{}h-{}z", px(s.x[i]) - s.width / 2, py(s.y[i]) - s.width / 2, s.width, s.width, s.width);
+        if (ok(i))
+          d += fmt::format("M{:.1f} {:.1f}h{}v{}h-{}z", px(s.x[i]) - s.width / 2, py(s.y[i]) - s.width / 2, s.width,
+                           s.width, s.width);
       }
       if (!d.empty()) svg += fmt::format("<path d=\"{}\" fill=\"{}\"/>\n", d, s.color);
     } else {
@@ -222,9 +245,10 @@ std::string RenderSvg(const Plot& plot) {
   for (const PlotSeries& s : plot.series) {
     if (s.name.empty()) continue;
     const double lx = left + w - 150;
-    svg += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"14\" height=\"4\" fill=\"{}\"/>"
-                       "<text x=\"{}\" y=\"{}\">{}</text>\n",
-                       lx, ly + 4, s.color, lx + 20, ly + 10, EscapeXml(s.name));
+    svg += fmt::format(
+        "<rect x=\"{}\" y=\"{}\" width=\"14\" height=\"4\" fill=\"{}\"/>"
+        "<text x=\"{}\" y=\"{}\">{}</text>\n",
+        lx, ly + 4, s.color, lx + 20, ly + 10, EscapeXml(s.name));
     ly += 16;
   }
   svg += "</svg>\n";

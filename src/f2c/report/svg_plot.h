@@ -13,25 +13,26 @@ struct PlotSeries {
   // kDots: a square of side `width` per point, all in one <path>: about a third of the bytes
   // of kPoints' circles, for thousands of points (maps, slices).
   enum class Style { kLine, kPoints, kBars, kDots };
-  std::string name;           // in the legend; empty: not listed
-  std::vector<double> x, y;   // same length; a NaN or infinite value (or <= 0 on a log axis) breaks a line and is skipped
+  std::string name;  // in the legend; empty: not listed
+  std::vector<double> x,
+      y;  // same length; a NaN or infinite value (or <= 0 on a log axis) breaks a line and is skipped
   std::string color = "#1f77b4";
   Style style = Style::kLine;
-  double width = 1.5;         // line width or point radius (pixels)
+  double width = 1.5;  // line width or point radius (pixels)
 };
 
 struct PlotAxis {
   std::string label;
-  bool log = false;                     // base 10
-  std::optional<double> min, max;       // default: the data's range (with a margin)
+  bool log = false;                // base 10
+  std::optional<double> min, max;  // default: the data's range (with a margin)
 };
 
 struct Plot {
   std::string title;
   PlotAxis x, y;
   std::vector<PlotSeries> series;
-  int width = 640, height = 400;        // pixels
-  bool equal_aspect = false;            // one unit is as long on both axes (maps, trajectories)
+  int width = 640, height = 400;  // pixels
+  bool equal_aspect = false;      // one unit is as long on both axes (maps, trajectories)
 };
 
 // The plot as an <svg> element (UTF-8 text, valid XML). An empty plot (no finite data) says

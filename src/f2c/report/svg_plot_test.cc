@@ -58,7 +58,7 @@ TEST(RenderSvg, ValidXmlWithAxesSeriesAndLegend) {
   // One decade (1) in 1..8: ticks at 1, 2 and 5 instead.
   EXPECT_NE(svg.find(">2</text>"), std::string::npos);
   EXPECT_NE(svg.find(">5</text>"), std::string::npos);
-  EXPECT_EQ(svg, RenderSvg(p));                          // the same bytes every time
+  EXPECT_EQ(svg, RenderSvg(p));  // the same bytes every time
 }
 
 TEST(RenderSvg, NaNBreaksALineAndEmptyPlotsSaySo) {

@@ -205,7 +205,8 @@ SensorOptions SensorOptions::Exact() {
 
 void SensorOptions::Check() const {
   CheckFields(*this);
-  if (!(max_depth > min_depth)) ThrowInputError("max_depth", fmt::format("must exceed min_depth ({}), got {}", min_depth, max_depth));
+  if (!(max_depth > min_depth))
+    ThrowInputError("max_depth", fmt::format("must exceed min_depth ({}), got {}", min_depth, max_depth));
 }
 
 Renderer::Renderer(const Scene& scene) : scene_(scene), bvh_(std::make_unique<Bvh>()) {
@@ -252,8 +253,8 @@ double Renderer::CastRay(const Vec3& o, const Vec3& d, int* triangle) const {
   return best;
 }
 
-RenderedView Renderer::Render(const CameraIntrinsics& k, const Rigid3d& world_from_camera,
-                              const SensorOptions& sensor, uint64_t noise_seed) const {
+RenderedView Renderer::Render(const CameraIntrinsics& k, const Rigid3d& world_from_camera, const SensorOptions& sensor,
+                              uint64_t noise_seed) const {
   sensor.Check();
   RenderedView view;
   view.color.create(k.height, k.width, CV_8UC3);

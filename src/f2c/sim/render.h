@@ -18,10 +18,10 @@ struct SensorOptions {
   // light sensors report 1/8-pixel disparities), plus Gaussian noise of
   // sigma(z) = sigma_a + sigma_b (z - 0.4)^2 metres (Nguyen et al., 3DIMPVT 2012).
   bool depth_noise = true;
-  double baseline = 0.075;         // metres
-  double disparity_step = 0.125;   // pixels
-  double sigma_a = 0.0012;         // metres
-  double sigma_b = 0.0019;         // metres per square metre
+  double baseline = 0.075;        // metres
+  double disparity_step = 0.125;  // pixels
+  double sigma_a = 0.0012;        // metres
+  double sigma_b = 0.0019;        // metres per square metre
   // No depth outside [min_depth, max_depth] metres.
   double min_depth = 0.4;
   double max_depth = 5.0;
@@ -78,8 +78,8 @@ class Renderer {
   explicit Renderer(const Scene& scene);
   ~Renderer();
   // `noise_seed` fixes the sensor noise of this view (same seed, same bytes).
-  RenderedView Render(const CameraIntrinsics& intrinsics, const Rigid3d& world_from_camera,
-                      const SensorOptions& sensor, uint64_t noise_seed) const;
+  RenderedView Render(const CameraIntrinsics& intrinsics, const Rigid3d& world_from_camera, const SensorOptions& sensor,
+                      uint64_t noise_seed) const;
   // Distance along the ray to the first surface (infinity if none), and its triangle: a ray
   // cast against a BVH, for single rays (ground-truth correspondences, visibility tests).
   double CastRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, int* triangle) const;

@@ -54,7 +54,7 @@ TEST(Renderer, NoisyDepthWithinTheNoiseModel) {
       ++n;
     }
   }
-  EXPECT_NEAR(sum / n, 0.0, 0.002);                              // unbiased
+  EXPECT_NEAR(sum / n, 0.0, 0.002);                                                // unbiased
   EXPECT_NEAR(std::sqrt(sum2 / n - (sum / n) * (sum / n)), spread, 0.2 * spread);  // the modelled spread
 }
 
@@ -93,13 +93,13 @@ TEST(Renderer, NoDepthBeyondRangeOrAtGrazingAngles) {
   const Scene scene = BuildScene("corridor", 0);
   const Renderer renderer(scene);
   Rigid3d pose = LookingWest();
-  pose.linear().col(2) = Eigen::Vector3d(1, 0, 0);   // looking down the 20 m corridor
+  pose.linear().col(2) = Eigen::Vector3d(1, 0, 0);  // looking down the 20 m corridor
   pose.linear().col(0) = Eigen::Vector3d(0, -1, 0);
   pose.translation() = Eigen::Vector3d(0.5, 1.0, 1.5);
   const RenderedView exact = renderer.Render(kK, pose, SensorOptions::Exact(), 0);
   const RenderedView sensed = renderer.Render(kK, pose, SensorOptions(), 0);
-  EXPECT_GT(exact.depth.at<float>(240, 320), 15.0f);    // the far end exists...
-  EXPECT_EQ(sensed.depth.at<float>(240, 320), 0.0f);    // ...but is beyond 5 m
+  EXPECT_GT(exact.depth.at<float>(240, 320), 15.0f);  // the far end exists...
+  EXPECT_EQ(sensed.depth.at<float>(240, 320), 0.0f);  // ...but is beyond 5 m
   double max_depth = 0;
   cv::minMaxLoc(sensed.depth, nullptr, &max_depth);
   EXPECT_LE(max_depth, 5.0);

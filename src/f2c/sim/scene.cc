@@ -101,9 +101,8 @@ class SceneBuilder {
 
   // An axis-aligned box from z0 to z1; no bottom face when it stands on the floor.
   void AddBox(const Vec2& min, const Vec2& max, double z0, double z1, Material m) {
-    const Vec3 p[8] = {{min.x(), min.y(), z0}, {max.x(), min.y(), z0}, {max.x(), max.y(), z0},
-                       {min.x(), max.y(), z0}, {min.x(), min.y(), z1}, {max.x(), min.y(), z1},
-                       {max.x(), max.y(), z1}, {min.x(), max.y(), z1}};
+    const Vec3 p[8] = {{min.x(), min.y(), z0}, {max.x(), min.y(), z0}, {max.x(), max.y(), z0}, {min.x(), max.y(), z0},
+                       {min.x(), min.y(), z1}, {max.x(), min.y(), z1}, {max.x(), max.y(), z1}, {min.x(), max.y(), z1}};
     AddQuad(p[0], p[1], p[5], p[4], m, next_surface_++);
     AddQuad(p[1], p[2], p[6], p[5], m, next_surface_++);
     AddQuad(p[2], p[3], p[7], p[6], m, next_surface_++);
@@ -164,7 +163,10 @@ class SceneBuilder {
   // centre: an organic shape with no plane on it.
   void AddBlob(const Vec3& centre, double radius, double bumps, std::mt19937_64* rng, Material m) {
     std::uniform_real_distribution<double> u(0.0, 1.0);
-    struct Lobe { Vec3 axis; double sharpness, height; };
+    struct Lobe {
+      Vec3 axis;
+      double sharpness, height;
+    };
     std::vector<Lobe> lobes;
     for (int i = 0; i < 5; ++i) {
       const double z = 2 * u(*rng) - 1, phi = 2 * M_PI * u(*rng);
@@ -213,7 +215,7 @@ class SceneBuilder {
         const double y = side == 0 ? min.y() + 0.08 : max.y() - 0.08 - d;
         lo = {x, y};
         hi = {x + w, y + d};
-      } else {         // west / east wall
+      } else {  // west / east wall
         const double y = min.y() + along * (max.y() - min.y() - w);
         const double x = side == 2 ? min.x() + 0.08 : max.x() - 0.08 - d;
         lo = {x, y};
@@ -256,9 +258,7 @@ class SceneBuilder {
   uint32_t next_surface_ = 0;
 };
 
-std::vector<Vec2> Rect(double x0, double y0, double x1, double y1) {
-  return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
-}
+std::vector<Vec2> Rect(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
 
 Scene TwoRooms(uint64_t seed) {
   std::mt19937_64 rng(seed);
@@ -401,12 +401,10 @@ Scene ObjectScene(uint64_t seed) {
   auto jitter = [&](double r) { return Vec3(r * (2 * u(rng) - 1), r * (2 * u(rng) - 1), 0); };
   b.AddBlob(top + Vec3(-0.12, 0.05, 0.13) + jitter(0.04), 0.15, 0.3, &rng, Material::kNoise);
   b.AddBlob(top + Vec3(0.22, -0.15, 0.08) + jitter(0.03), 0.08, 0.05, &rng, Material::kNoise);  // a ball
-  b.AddCylinder(top + Vec3(0.25, 0.15, 0) + jitter(0.03), 0.04 + 0.02 * u(rng), 0.22 + 0.1 * u(rng),
-                Material::kNoise);
+  b.AddCylinder(top + Vec3(0.25, 0.15, 0) + jitter(0.03), 0.04 + 0.02 * u(rng), 0.22 + 0.1 * u(rng), Material::kNoise);
   b.AddTurnedBox(top + Vec3(-0.3, -0.2, 0) + jitter(0.03), Vec3(0.16, 0.1, 0.12 + 0.1 * u(rng)), 2 * M_PI * u(rng),
                  Material::kNoise);
-  b.AddTurnedBox(top + Vec3(0.05, -0.22, 0) + jitter(0.02), Vec3(0.12, 0.12, 0.06), 2 * M_PI * u(rng),
-                 Material::kWood);
+  b.AddTurnedBox(top + Vec3(0.05, -0.22, 0) + jitter(0.02), Vec3(0.12, 0.12, 0.06), 2 * M_PI * u(rng), Material::kWood);
   // On the floor beside the table: a bin, a carton, a stool (a cylinder on a cylinder).
   b.AddCylinder(Vec3(c.x() + 0.7, c.y() - 0.35, 0) + jitter(0.05), 0.15, 0.4, Material::kNoise);
   b.AddTurnedBox(Vec3(c.x() - 0.75, c.y() + 0.3, 0) + jitter(0.05), Vec3(0.4, 0.3, 0.3), 2 * M_PI * u(rng),
@@ -437,8 +435,9 @@ Scene BuildScene(const std::string& name, uint64_t seed) {
   if (name == "apartment-square") return Apartment(seed, 4 * std::tan(6 * M_PI / 180));
   if (name == "corridor") return Corridor(seed);
   if (name == "object") return ObjectScene(seed);
-  ThrowInputError("--scene",
-                  fmt::format("unknown scene '{}' (expected two-rooms, apartment, apartment-square, corridor or object)", name));
+  ThrowInputError(
+      "--scene",
+      fmt::format("unknown scene '{}' (expected two-rooms, apartment, apartment-square, corridor or object)", name));
 }
 
 }  // namespace f2c::sim

@@ -22,7 +22,7 @@ enum class Material : uint8_t {
 
 struct Triangle {
   Eigen::Vector3d a, b, c;
-  Eigen::Vector3d normal;   // unit; for walls, pointing into the room
+  Eigen::Vector3d normal;  // unit; for walls, pointing into the room
   Material material = Material::kPlain;
   // id of the surface it belongs to: a planar one (wall, floor, box face), or one curved
   // object's side (a cylinder's mantle, a sphere)
@@ -39,11 +39,11 @@ struct Room {
 // distance and height that drift slowly within the swings, as a person walks round a table.
 struct Orbit {
   Eigen::Vector3d target = Eigen::Vector3d::Zero();  // what the camera looks at (metres)
-  double radius = 1.25;        // horizontal distance from the target (metres)
-  double radius_swing = 0.25;  // ... varying within +- this
-  double height = 1.1;         // camera height above the floor (metres)
+  double radius = 1.25;                              // horizontal distance from the target (metres)
+  double radius_swing = 0.25;                        // ... varying within +- this
+  double height = 1.1;                               // camera height above the floor (metres)
   double height_swing = 0.2;
-  double pace = 0.3;           // metres per second along the circle, at WalkOptions::speed 1
+  double pace = 0.3;  // metres per second along the circle, at WalkOptions::speed 1
 };
 
 struct Scene {

@@ -37,7 +37,9 @@ TEST(Scene, FurnitureHasTablesAndShelves) {
       const double z = t.a.z();
       if (t.normal.z() < 0.99 || area < 0.01 || z <= 0 || z >= 2.0) continue;
       const Vec3 centre = (t.a + t.b + t.c) / 3;
-      auto down = [&](double from) { return renderer.CastRay(Vec3(centre.x(), centre.y(), from), Vec3(0, 0, -1), nullptr); };
+      auto down = [&](double from) {
+        return renderer.CastRay(Vec3(centre.x(), centre.y(), from), Vec3(0, 0, -1), nullptr);
+      };
       if (z >= 0.72 && z <= 0.78 && std::abs(down(z - 0.001) - 0.039) < 1e-9) {
         ++tables;
         EXPECT_NEAR(down(z - 0.05), z - 0.05, 1e-9) << "between the legs, the floor";

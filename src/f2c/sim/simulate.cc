@@ -56,8 +56,8 @@ bool Correspond(const Renderer& renderer, const CameraIntrinsics& k, const Rigid
 }  // namespace
 
 std::vector<Correspondence> SampleCorrespondences(const Scene& scene, const Renderer& renderer,
-                                                  const CameraIntrinsics& k, const Trajectory& poses,
-                                                  int count, uint64_t seed) {
+                                                  const CameraIntrinsics& k, const Trajectory& poses, int count,
+                                                  uint64_t seed) {
   std::vector<Correspondence> out;
   const int n = static_cast<int>(poses.size());
   if (n < 2 || count == 0) return out;
@@ -146,8 +146,7 @@ Trajectory Simulate(const fs::path& dir, const SimulateOptions& options, bool qu
   });
   progress.Finish();
   const CameraIntrinsics& k = options.intrinsics;
-  WriteFileAtomic(dir / "camera-intrinsics.txt",
-                  fmt::format("{} 0 {}\n0 {} {}\n0 0 1\n", k.fx, k.cx, k.fy, k.cy));
+  WriteFileAtomic(dir / "camera-intrinsics.txt", fmt::format("{} 0 {}\n0 {} {}\n0 0 1\n", k.fx, k.cx, k.fy, k.cy));
   WriteTumTrajectory(dir / "groundtruth.txt", stamped);
   WritePly(dir / "scene.ply", SceneSurfaces(scene));
   WriteCorrespondences(dir / "correspondences.txt",

@@ -18,11 +18,11 @@ namespace f2c::sim {
 
 struct SimulateOptions {
   std::string scene = "apartment";
-  uint64_t seed = 0;                       // scene furniture, walk and noise
+  uint64_t seed = 0;  // scene furniture, walk and noise
   CameraIntrinsics intrinsics{525.0, 525.0, 319.5, 239.5, 640, 480};
   SensorOptions sensor;
-  WalkOptions walk;                        // walk.frames = number of frames
-  int correspondences = 400;               // about half nearby pairs, half loop closures
+  WalkOptions walk;           // walk.frames = number of frames
+  int correspondences = 400;  // about half nearby pairs, half loop closures
 
   template <class V>
   void Fields(V& v) {
@@ -47,7 +47,7 @@ PlyPoints SceneSurfaces(const Scene& scene);
 
 // Ground-truth correspondences on exact geometry (no sensor noise), visible in both frames.
 std::vector<Correspondence> SampleCorrespondences(const Scene& scene, const Renderer& renderer,
-                                                  const CameraIntrinsics& intrinsics,
-                                                  const Trajectory& poses, int count, uint64_t seed);
+                                                  const CameraIntrinsics& intrinsics, const Trajectory& poses,
+                                                  int count, uint64_t seed);
 
 }  // namespace f2c::sim

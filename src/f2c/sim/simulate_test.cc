@@ -68,7 +68,8 @@ TEST(Simulate, WalkMovesAboutOneMetrePerSecond) {
   long_walk.frames = 2400;  // the whole route and back
   const Trajectory lt = GenerateWalk(scene, long_walk);
   for (size_t i = 1; i < lt.size(); ++i) {
-    const double angle = RotationAngle(lt.world_from_camera[i - 1].linear().transpose() * lt.world_from_camera[i].linear());
+    const double angle =
+        RotationAngle(lt.world_from_camera[i - 1].linear().transpose() * lt.world_from_camera[i].linear());
     ASSERT_LT(angle * 180 / M_PI, 3.5) << "frame " << i;
   }
 }

@@ -19,8 +19,8 @@ std::vector<Vec2> SmoothRoute(const std::vector<Vec2>& w) {
     const int steps = std::max(2, static_cast<int>((p2 - p1).norm() / 0.01));
     for (int s = 0; s < steps; ++s) {
       const double t = static_cast<double>(s) / steps, t2 = t * t, t3 = t2 * t;
-      route.push_back(0.5 * (2 * p1 + (-p0 + p2) * t + (2 * p0 - 5 * p1 + 4 * p2 - p3) * t2 +
-                             (-p0 + 3 * p1 - 3 * p2 + p3) * t3));
+      route.push_back(
+          0.5 * (2 * p1 + (-p0 + p2) * t + (2 * p0 - 5 * p1 + 4 * p2 - p3) * t2 + (-p0 + 3 * p1 - 3 * p2 + p3) * t3));
     }
   }
   route.push_back(w.back());
@@ -43,7 +43,6 @@ struct Wobble {
     return s / 3.0;
   }
 };
-
 
 // The unit viewing direction of a camera turned by `yaw` about the vertical (from +x) and
 // tilted by `pitch` (up positive), radians.
@@ -96,9 +95,7 @@ Trajectory OrbitWalk(const Orbit& orbit, const WalkOptions& o) {
 
 }  // namespace
 
-void WalkOptions::Check() const {
-  CheckFields(*this);
-}
+void WalkOptions::Check() const { CheckFields(*this); }
 
 Trajectory GenerateWalk(const Scene& scene, const WalkOptions& o) {
   o.Check();

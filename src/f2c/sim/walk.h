@@ -16,11 +16,11 @@ namespace f2c::sim {
 struct WalkOptions {
   int frames = 900;
   double fps = 30.0;
-  double speed = 1.0;              // metres per second along the route
-  double eye_height = 1.5;         // metres
-  double pitch_deg = -15.0;        // looking slightly down
-  double sweep_deg = 35.0;         // head turning amplitude around the walking direction
-  double sweep_period = 6.0;       // seconds
+  double speed = 1.0;         // metres per second along the route
+  double eye_height = 1.5;    // metres
+  double pitch_deg = -15.0;   // looking slightly down
+  double sweep_deg = 35.0;    // head turning amplitude around the walking direction
+  double sweep_period = 6.0;  // seconds
   // People turn their body at a bounded rate: the walking direction the head sweeps around
   // follows the route's direction at most this fast (degrees per second), so dead ends and
   // corners become gradual turns instead of jumps.

@@ -11,8 +11,7 @@ namespace f2c::testing {
 namespace {
 
 uint32_t Hash(int64_t x, int64_t y, int64_t z) {
-  uint64_t h = static_cast<uint64_t>(x) * 0x9E3779B97F4A7C15ULL ^
-               static_cast<uint64_t>(y) * 0xC2B2AE3D27D4EB4FULL ^
+  uint64_t h = static_cast<uint64_t>(x) * 0x9E3779B97F4A7C15ULL ^ static_cast<uint64_t>(y) * 0xC2B2AE3D27D4EB4FULL ^
                static_cast<uint64_t>(z) * 0x165667B19E3779F9ULL;
   h ^= h >> 29;
   h *= 0xBF58476D1CE4E5B9ULL;
@@ -23,19 +22,16 @@ uint32_t Hash(int64_t x, int64_t y, int64_t z) {
 // Blocks of random grey at two scales, so corners exist at any viewing distance.
 cv::Vec3b Texture(const Eigen::Vector3d& p) {
   auto cell = [&](double size) {
-    return Hash(static_cast<int64_t>(std::floor(p.x() / size)),
-                static_cast<int64_t>(std::floor(p.y() / size)),
+    return Hash(static_cast<int64_t>(std::floor(p.x() / size)), static_cast<int64_t>(std::floor(p.y() / size)),
                 static_cast<int64_t>(std::floor(p.z() / size)));
   };
   const uint32_t a = cell(0.2), b = cell(0.05);
   const int v = static_cast<int>((a & 0xff) * 0.6 + (b & 0xff) * 0.4);
-  return {static_cast<uint8_t>(v), static_cast<uint8_t>((v + (a >> 8 & 0x3f)) & 0xff),
-          static_cast<uint8_t>(255 - v)};
+  return {static_cast<uint8_t>(v), static_cast<uint8_t>((v + (a >> 8 & 0x3f)) & 0xff), static_cast<uint8_t>(255 - v)};
 }
 
 // Ray-box slab test: entry and exit distances along the ray.
-bool Slab(const Box& box, const Eigen::Vector3d& o, const Eigen::Vector3d& d, double* t_in,
-          double* t_out) {
+bool Slab(const Box& box, const Eigen::Vector3d& o, const Eigen::Vector3d& d, double* t_in, double* t_out) {
   double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 3; ++i) {
     if (std::abs(d[i]) < 1e-12) {
@@ -54,8 +50,7 @@ bool Slab(const Box& box, const Eigen::Vector3d& o, const Eigen::Vector3d& d, do
 
 }  // namespace
 
-RenderedFrame Render(const SyntheticScene& scene, const CameraIntrinsics& k,
-                     const Rigid3d& world_from_camera) {
+RenderedFrame Render(const SyntheticScene& scene, const CameraIntrinsics& k, const Rigid3d& world_from_camera) {
   RenderedFrame frame;
   frame.color.create(k.height, k.width, CV_8UC3);
   frame.depth.create(k.height, k.width, CV_32F);
@@ -94,8 +89,7 @@ RenderedFrame Render(const SyntheticScene& scene, const CameraIntrinsics& k,
 
 namespace f2c::testing {
 
-Trajectory WriteTumSequence(const std::filesystem::path& dir, const SyntheticScene& scene,
-                            const CameraIntrinsics& k,
+Trajectory WriteTumSequence(const std::filesystem::path& dir, const SyntheticScene& scene, const CameraIntrinsics& k,
                             const std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>>& poses) {
   std::filesystem::create_directories(dir / "rgb");
   std::filesystem::create_directories(dir / "depth");
@@ -146,8 +140,8 @@ void RemoveMadeFolders() {
 std::filesystem::path FreshTempDir(const std::string& name) {
   // Per process: two test runs at once (two checkouts, CI beside a developer's run) must not
   // delete each other's files.
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("f2c_test_" + std::to_string(static_cast<long>(getpid())) + "_" + name);
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("f2c_test_" + std::to_string(static_cast<long>(getpid())) + "_" + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   if (MadeFolders().empty()) std::atexit(RemoveMadeFolders);

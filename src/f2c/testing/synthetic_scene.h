@@ -25,8 +25,7 @@ struct RenderedFrame {
   cv::Mat depth;  // CV_32F metres, 0 where nothing is hit
 };
 
-RenderedFrame Render(const SyntheticScene& scene, const CameraIntrinsics& intrinsics,
-                     const Rigid3d& world_from_camera);
+RenderedFrame Render(const SyntheticScene& scene, const CameraIntrinsics& intrinsics, const Rigid3d& world_from_camera);
 
 // Depth (CV_32F metres) of the plane {x : n . x = d} (camera frame) along each pixel's ray:
 // z = d / (n . r), r = ((u - cx) / fx, (v - cy) / fy, 1).

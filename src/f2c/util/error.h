@@ -23,15 +23,13 @@ class InternalError : public std::logic_error {
 // Throws InputError("<path>: <what>"); an empty path is written "(empty path)".
 [[noreturn]] void ThrowInputError(const std::filesystem::path& path, const std::string& what);
 // Throws InputError("<path>:<line>: <what>") for an error on a line of a text file.
-[[noreturn]] void ThrowInputError(const std::filesystem::path& path, int line,
-                                  const std::string& what);
+[[noreturn]] void ThrowInputError(const std::filesystem::path& path, int line, const std::string& what);
 
-[[noreturn]] void CheckFailed(const char* file, int line, const char* condition,
-                              const std::string& message);
+[[noreturn]] void CheckFailed(const char* file, int line, const char* condition, const std::string& message);
 
 }  // namespace f2c
 
-#define F2C_CHECK(condition, message)                                   \
-  do {                                                                  \
+#define F2C_CHECK(condition, message)                                              \
+  do {                                                                             \
     if (!(condition)) ::f2c::CheckFailed(__FILE__, __LINE__, #condition, message); \
   } while (false)

@@ -66,10 +66,10 @@ struct EnumName {
   const char* name;
 };
 
-#define F2C_ENUM_NAMES(E, ...)                                               \
-  inline std::span<const ::f2c::EnumName<E>> EnumNames(E) {                  \
-    static constexpr ::f2c::EnumName<E> kNames[] = __VA_ARGS__;              \
-    return kNames;                                                           \
+#define F2C_ENUM_NAMES(E, ...)                                  \
+  inline std::span<const ::f2c::EnumName<E>> EnumNames(E) {     \
+    static constexpr ::f2c::EnumName<E> kNames[] = __VA_ARGS__; \
+    return kNames;                                              \
   }
 
 template <class E>
@@ -104,7 +104,8 @@ T ParseUnsigned(const std::string& text, const std::string& what) {
   const char* end = text.data() + text.size();
   const auto [at, error] = std::from_chars(text.data(), end, value);
   if (text.empty() || error != std::errc() || at != end) {
-    ThrowInputError(what, fmt::format("must be a whole number from 0 to {}, got '{}'", std::numeric_limits<T>::max(), text));
+    ThrowInputError(what,
+                    fmt::format("must be a whole number from 0 to {}, got '{}'", std::numeric_limits<T>::max(), text));
   }
   return value;
 }

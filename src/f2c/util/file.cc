@@ -44,8 +44,7 @@ std::string ReadFileToString(const fs::path& path) {
 
 void WriteFileAtomic(const fs::path& path, std::string_view content) {
   static std::atomic<int> counter{0};
-  const fs::path tmp =
-      path.string() + fmt::format(".tmp.{}.{}", static_cast<long>(getpid()), counter++);
+  const fs::path tmp = path.string() + fmt::format(".tmp.{}.{}", static_cast<long>(getpid()), counter++);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) ThrowInputError(path, fmt::format("cannot write ({})", std::strerror(errno)));

@@ -85,7 +85,8 @@ TEST(WriteFileAtomic, FailedRenameLeavesNoTemporaryFile) {
     WriteFileAtomic(dir / "target", "new");
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind((dir / "target").string() + ": cannot rename temporary file into place", 0), 0u)
+    EXPECT_EQ(std::string(e.what()).rfind((dir / "target").string() + ": cannot rename temporary file into place", 0),
+              0u)
         << e.what();
   }
   int files = 0;

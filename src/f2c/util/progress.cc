@@ -78,10 +78,8 @@ void Progress::Draw(long done, bool final_line) {
     const int filled = static_cast<int>(kWidth * done / std::max(total_, 1L));
     std::string bar(filled, '#');
     bar.resize(kWidth, '.');
-    std::fprintf(stderr, "\r%s [%s] %ld/%ld  %.1f/s  %s   ", label_.c_str(), bar.c_str(), done,
-                 total_, rate,
-                 final_line ? fmt::format("{:.1f} s", elapsed).c_str()
-                            : fmt::format("ETA {:.0f} s", eta).c_str());
+    std::fprintf(stderr, "\r%s [%s] %ld/%ld  %.1f/s  %s   ", label_.c_str(), bar.c_str(), done, total_, rate,
+                 final_line ? fmt::format("{:.1f} s", elapsed).c_str() : fmt::format("ETA {:.0f} s", eta).c_str());
     if (final_line) std::fputc('\n', stderr);
     std::fflush(stderr);
   } else {

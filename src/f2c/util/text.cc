@@ -51,8 +51,7 @@ bool ParseInt(std::string_view token, long* value) {
 }
 
 std::vector<double> ParseDoublesOrThrow(const std::vector<std::string>& tokens, size_t begin,
-                                        const std::filesystem::path& path, int line,
-                                        const std::string& expected) {
+                                        const std::filesystem::path& path, int line, const std::string& expected) {
   std::vector<double> values;
   for (size_t i = begin; i < tokens.size(); ++i) {
     double v = 0;
@@ -64,16 +63,15 @@ std::vector<double> ParseDoublesOrThrow(const std::vector<std::string>& tokens, 
   return values;
 }
 
-std::vector<double> ReadNumberFile(const std::filesystem::path& path, size_t count,
-                                   const std::string& what) {
+std::vector<double> ReadNumberFile(const std::filesystem::path& path, size_t count, const std::string& what) {
   std::vector<double> numbers;
   for (const TextLine& line : ReadDataLines(path)) {
     const auto values = ParseDoublesOrThrow(SplitWhitespace(line.text), 0, path, line.number, what);
     numbers.insert(numbers.end(), values.begin(), values.end());
   }
   if (numbers.size() != count) {
-    ThrowInputError(path, "expected " + what + " (" + std::to_string(count) + " numbers), got " +
-                              std::to_string(numbers.size()));
+    ThrowInputError(
+        path, "expected " + what + " (" + std::to_string(count) + " numbers), got " + std::to_string(numbers.size()));
   }
   return numbers;
 }
