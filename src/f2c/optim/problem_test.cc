@@ -123,6 +123,25 @@ TEST(SolvePoses, CorrespondencesAloneRecoverPerturbedPoses) {
   EXPECT_EQ(s.residual_blocks.at(Term::kC), 6 * 5);  // one block per ordered pair of frames
 }
 
+// The same with Ceres' conjugate gradients (--linear-solver cgnr, whose memory grows with the
+// constraints only): it recovers the poses as the direct solvers do.
+TEST(SolvePoses, ConjugateGradientsRecoverPerturbedPosesToo) {
+  const Scene scene = MakeScene(6);
+  std::mt19937 rng(3);
+  const std::vector<FeatureCorrespondence> c = ExactCorrespondences(scene, rng);
+  PoseVector poses = Perturb(scene.truth, 0.03, 0.02, rng);
+  SolverOptions options;
+  options.solve = SolveMode::kConverge;
+  options.linear_solver = LinearSolver::kCgnr;
+  options.weight_inertia = 1e-6;
+  SolveSummary s;
+  for (int round = 0; round < 3; ++round) s = SolvePoses({c, {}, {}, {}, {}}, options, &poses);
+  ASSERT_TRUE(s.usable) << s.termination;
+  EXPECT_GT(s.linear_iterations, 0);  // the iterative solver ran
+  EXPECT_LT(MaxTranslationError(poses, scene.truth), 1e-4);
+  EXPECT_LT(MaxRotationErrorDeg(poses, scene.truth), 0.01);
+}
+
 // One point-to-plane correspondence between two frames, frame 0 held (w_I 0): five of frame
 // 1's six directions are free, the normal equations singular. Our one-step solve reports it
 // and the solve falls back to Ceres, as it was before our solver: from the one step's huge

@@ -46,6 +46,27 @@ TEST(FeatureIndex, PlaneFeaturesKeepTheirOwnCellsFit) {
   }
 }
 
+// Shadow edges and image-border points depend on the view (where the camera stood, where the
+// image ends), so they join the edge family only when asked (--use-shadows, --use-borders).
+TEST(FeatureIndex, ViewDependentEdgesOnlyWhenAsked) {
+  FrameFeatures f;
+  const FeatureType types[] = {FeatureType::kSilhouette, FeatureType::kShadow, FeatureType::kBorder};
+  for (int i = 0; i < 3; ++i) {
+    Feature x;
+    x.type = types[i];
+    x.position = Eigen::Vector3f(0.1f * i, 0, 2);
+    x.direction = Eigen::Vector3f(1, 0, 0);
+    f.features.push_back(x);
+  }
+  FeatureIndexOptions o;
+  EXPECT_EQ(BuildFrameIndex(f, o)->family(FeatureFamily::kEdge).size(), 1);
+  o.use_shadows = true;
+  EXPECT_EQ(BuildFrameIndex(f, o)->family(FeatureFamily::kEdge).size(), 2);
+  o.use_borders = true;
+  EXPECT_EQ(BuildFrameIndex(f, o)->family(FeatureFamily::kEdge).size(), 3);
+  EXPECT_EQ(BuildFrameIndex(f, o)->family(FeatureFamily::kPlane).size(), 0);
+}
+
 // The bounded search returns the points within the bound, nearest first, and only those:
 // against brute force over a random cloud, for bounds that cut through the neighbours, and
 // for a point at exactly the bound's distance (a grid, so such distances are exact).

@@ -90,6 +90,36 @@ TEST(CandidatePairs, AtMostPerOctavePartnersPerPowerOfTwoGap) {
   EXPECT_LT(pairs.size(), static_cast<size_t>(n * 7));
 }
 
+// --long-range-stride: pairs at least long_range_gap frames apart join only frames whose
+// index is a multiple of the stride; nearer pairs are as before.
+TEST(CandidatePairs, LongRangePairsJoinOnlyEveryStrideThFrame) {
+  const int n = 32;
+  const Row row = MakeRow(n, -1);
+  const WindowSchedule schedule = Schedule(n);
+  const int last = schedule.iterations() - 1;
+  PairOptions o;
+  o.cell_size = 10.0;
+  o.long_range_gap = 8;
+  const std::vector<FramePair> all = CandidatePairs(schedule, last, row.index, row.poses, kIntrinsics, o);
+  o.long_range_stride = 4;
+  const std::vector<FramePair> strided = CandidatePairs(schedule, last, row.index, row.poses, kIntrinsics, o);
+  int long_pairs = 0, short_from_other_frames = 0;
+  for (const FramePair& p : strided) {
+    if (p.b - p.a >= 8) {
+      ++long_pairs;
+      EXPECT_EQ(p.a % 4, 0) << p.a << "-" << p.b;
+      EXPECT_EQ(p.b % 4, 0) << p.a << "-" << p.b;
+    } else {
+      short_from_other_frames += p.a % 4 != 0;
+    }
+  }
+  EXPECT_GT(long_pairs, 0);
+  EXPECT_GT(short_from_other_frames, 0);
+  int all_long = 0;
+  for (const FramePair& p : all) all_long += p.b - p.a >= 8;
+  EXPECT_LT(long_pairs, all_long);
+}
+
 TEST(CoverageSeen, FractionInsideTheOtherImage) {
   FrameFeatures f;
   for (const Eigen::Vector3f& p : {Eigen::Vector3f(0, 0, 2), Eigen::Vector3f(0.5f, 0, 2), Eigen::Vector3f(3, 0, 2)}) {
