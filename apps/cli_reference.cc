@@ -28,9 +28,6 @@ std::string Names(const CLI::Option& opt) {
   std::string names;
   for (const std::string& s : opt.get_snames()) names += (names.empty() ? "" : ", ") + ("-" + s);
   for (const std::string& l : opt.get_lnames()) names += (names.empty() ? "" : ", ") + ("--" + l);
-  for (const std::string& l : opt.get_fnames()) {
-    if (names.find("--" + l) == std::string::npos) names += ", --" + l;
-  }
   return "`" + names + "`";
 }
 

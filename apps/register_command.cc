@@ -42,7 +42,6 @@ const std::vector<HelpSection> kEverydayOptions = {
 
 int RunRegister(const RegisterArgs& args) {
   Timer total;
-  args.options.Check();
   const fs::path out = args.output;
   // The input first (a bad one leaves no output folder behind), then the start the
   // refinement is given, then the output folder: all fail in seconds, before minutes of work.

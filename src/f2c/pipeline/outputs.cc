@@ -147,10 +147,8 @@ std::vector<std::string> WriteOutputs(const fs::path& dir, const RegisterResult&
     fs::create_directories(dir / "iterations");
     const std::vector<PoseVector>& poses = r.refine->result.iteration_poses;
     for (size_t i = 0; i < poses.size(); ++i) {
-      Trajectory t;
-      t.has_timestamps = r.odometry.t0.has_timestamps;
-      for (size_t k = 0; k < poses[i].size(); ++k) t.Add(r.odometry.t0.timestamps[k], poses[i][k].ToRigid());
-      WriteTumTrajectory(dir / "iterations" / fmt::format("iteration_{:02d}.txt", i + 1), t);
+      WriteTumTrajectory(dir / "iterations" / fmt::format("iteration_{:02d}.txt", i + 1),
+                         PosesToTrajectory(r.odometry.t0, poses[i]));
     }
   }
   if (r.fusion) WritePly(dir / "mesh.ply", r.fusion->mesh);

@@ -63,13 +63,6 @@ std::optional<KeyframeStore> KeyframeStep(const RgbdSequence& seq, const Registe
                                       interval);
 }
 
-Trajectory ToTrajectory(const Trajectory& like, const PoseVector& poses) {
-  Trajectory t;
-  t.has_timestamps = like.has_timestamps;
-  for (size_t k = 0; k < poses.size(); ++k) t.Add(like.timestamps[k], poses[k].ToRigid());
-  return t;
-}
-
 RefineStage Refine(const RegisterResult& r, const RegisterOptions& options, FeatureStep* features,
                    std::optional<KeyframeStore>* store) {
   RefineStage stage;
@@ -144,6 +137,13 @@ OdometryCounts CountPairs(const Odometry& odometry) {
   return c;
 }
 
+Trajectory PosesToTrajectory(const Trajectory& like, const PoseVector& poses) {
+  Trajectory t;
+  t.has_timestamps = like.has_timestamps;
+  for (size_t k = 0; k < poses.size(); ++k) t.Add(like.timestamps[k], poses[k].ToRigid());
+  return t;
+}
+
 RegisterResult Register(RgbdSequence sequence, const RegisterOptions& options) {
   Timer total;
   options.Check();
@@ -196,7 +196,7 @@ RegisterResult Register(RgbdSequence sequence, const RegisterOptions& options) {
   r.poses = r.odometry.t0;
   if (features.index) {
     r.refine = Refine(r, options, &features, &keyframes);
-    r.poses = ToTrajectory(r.odometry.t0, r.refine->result.poses);
+    r.poses = PosesToTrajectory(r.odometry.t0, r.refine->result.poses);
   }
 
   // 4. The mesh, from the final poses.

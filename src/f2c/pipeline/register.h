@@ -69,6 +69,9 @@ struct OdometryCounts {
 };
 OdometryCounts CountPairs(const Odometry& odometry);
 
+// `poses` (one per frame) with the time stamps of `like` (the odometry's T0).
+Trajectory PosesToTrajectory(const Trajectory& like, const PoseVector& poses);
+
 struct FeatureStage {
   FeatureTimings timings;
   nlohmann::json statistics;  // per-type totals and per-frame means (FeatureExtraction::Statistics)
