@@ -164,7 +164,7 @@ TEST(Cli, RegisterRefinesAndKeepsT0) {
 // the trajectory and by the ground-truth correspondences, and its self-check agrees.
 TEST(Cli, RegisterRefinesASimulatedObjectScan) {
   const fs::path dir = testing::FreshTempDir("cli_object");
-  ASSERT_EQ(RunCli("simulate --scene object --frames 150 --seed 2 -q -o " + (dir / "scan").string()).code, 0);
+  ASSERT_EQ(RunCli("simulate --scene object --frames 100 --seed 2 -q -o " + (dir / "scan").string()).code, 0);
   const Result r = RunCli("register " + (dir / "scan").string() + " -q --no-mesh -o " + (dir / "out").string());
   ASSERT_EQ(r.code, 0) << r.output;
   // The self-check's record: every iteration's, the run's (which kept the result), the report's line.
@@ -261,9 +261,10 @@ TEST(Cli, EvaluateMeshAgainstTheSimulatedSurfaces) {
   ASSERT_EQ(RunCli("simulate --scene two-rooms --frames 20 --exact -q -o " + (dir / "scan").string()).code, 0);
   ASSERT_TRUE(fs::exists(dir / "scan" / "scene.ply"));
   const std::string gt = (dir / "scan" / "groundtruth.txt").string();
-  ASSERT_EQ(
-      RunCli("fuse " + (dir / "scan").string() + " --trajectory " + gt + " -q -o " + (dir / "gt.ply").string()).code,
-      0);
+  ASSERT_EQ(RunCli("fuse " + (dir / "scan").string() + " --trajectory " + gt + " --voxel-size 0.02 -q -o " +
+                   (dir / "gt.ply").string())
+                .code,
+            0);
   const Result exact = RunCli("evaluate --json --estimate " + gt + " --ground-truth " + (dir / "scan").string() +
                               " --mesh " + (dir / "gt.ply").string());
   ASSERT_EQ(exact.code, 0) << exact.output;
@@ -279,8 +280,8 @@ TEST(Cli, EvaluateMeshAgainstTheSimulatedSurfaces) {
     off.world_from_camera[i].translation() += (i % 2 ? 0.05 : -0.05) * Eigen::Vector3d::UnitX();
   }
   WriteTumTrajectory(dir / "off.txt", off);
-  ASSERT_EQ(RunCli("fuse " + (dir / "scan").string() + " --trajectory " + (dir / "off.txt").string() + " -q -o " +
-                   (dir / "off.ply").string())
+  ASSERT_EQ(RunCli("fuse " + (dir / "scan").string() + " --trajectory " + (dir / "off.txt").string() +
+                   " --voxel-size 0.02 -q -o " + (dir / "off.ply").string())
                 .code,
             0);
   const Result wrong = RunCli("evaluate --json --estimate " + (dir / "off.txt").string() + " --ground-truth " +
@@ -312,7 +313,7 @@ TEST(Cli, WriteConfigThenConfigReproducesTheRun) {
   const fs::path out = testing::FreshTempDir("cli_config_out");
   const fs::path config = out / "run.toml";
   ASSERT_EQ(RunCli("register " + dir.string() +
-                   " --intrinsics primesense -q --window-frames 2 --no-sift-loops "
+                   " --intrinsics primesense -q --window-frames 2 --no-sift-loops --no-mesh --no-report "
                    "--loss huber --write-config " +
                    config.string() + " -o " + (out / "a").string())
                 .code,
@@ -341,7 +342,8 @@ TEST(Cli, WriteConfigThenConfigReproducesTheRun) {
 TEST(Cli, StructureAddsTheHierarchyAndItsTermsToEachIteration) {
   const fs::path dir = SyntheticTum("cli_structure", 12);
   const fs::path out = testing::FreshTempDir("cli_structure_out");
-  const std::string base = "register " + dir.string() + " --intrinsics primesense -q --window-frames 4 ";
+  const std::string base =
+      "register " + dir.string() + " --intrinsics primesense -q --window-frames 4 --no-mesh --no-report ";
   ASSERT_EQ(RunCli(base + "-o " + (out / "on").string()).code, 0);
   ASSERT_EQ(RunCli(base + "--structure -o " + (out / "explicit").string()).code, 0);
   ASSERT_EQ(RunCli(base + "--no-structure -o " + (out / "off").string()).code, 0);

@@ -12,7 +12,7 @@ namespace f2c {
 namespace {
 
 using Vec3 = Eigen::Vector3d;
-constexpr double kDeg = M_PI / 180.0;
+using testing::kDeg;
 
 // The test room of testing::SyntheticScene (y down: the floor is y = 1.5, boxes stand on it),
 // seen from above and behind the boxes, pitched down so the floor, box tops and the walls

@@ -11,7 +11,7 @@
 namespace f2c {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+using testing::kDeg;
 
 double AngleBetween(const Eigen::Vector3f& a, const Eigen::Vector3d& b) {
   return std::acos(std::clamp(std::abs(a.cast<double>().normalized().dot(b.normalized())), 0.0, 1.0));

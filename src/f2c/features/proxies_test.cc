@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "f2c/testing/synthetic_scene.h"
+
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <cmath>
@@ -10,7 +12,7 @@
 namespace f2c {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+using testing::kDeg;
 
 // A wall seen obliquely: the plane n . x = d in camera coordinates, n turned 60 deg about the
 // camera's vertical axis from facing it, 4 m away along the optical axis. The grid samples

@@ -14,7 +14,7 @@
 namespace f2c {
 namespace {
 
-cv::Mat TestImage(int type, uint32_t seed) {
+cv::Mat JpegTestImage(int type, uint32_t seed) {
   cv::Mat image(96, 128, type);
   std::mt19937 rng(seed);
   for (int y = 0; y < image.rows; ++y) {
@@ -69,14 +69,14 @@ std::string EncodeTurbo(const cv::Mat& bgr, int subsampling, int quality) {
 TEST(DecodeJpeg, EqualsOpenCvForEverySubsamplingQualityAndGrey) {
   for (int sampling : {TJSAMP_444, TJSAMP_422, TJSAMP_420, TJSAMP_411, TJSAMP_GRAY}) {
     for (int quality : {50, 95}) {
-      ExpectSameAsOpenCv(EncodeTurbo(TestImage(CV_8UC3, quality + sampling), sampling, quality),
+      ExpectSameAsOpenCv(EncodeTurbo(JpegTestImage(CV_8UC3, quality + sampling), sampling, quality),
                          "sampling " + std::to_string(sampling) + " quality " + std::to_string(quality));
     }
   }
   for (int progressive : {0, 1}) {
-    ExpectSameAsOpenCv(Encode(TestImage(CV_8UC3, 5), {cv::IMWRITE_JPEG_PROGRESSIVE, progressive}), "progressive");
+    ExpectSameAsOpenCv(Encode(JpegTestImage(CV_8UC3, 5), {cv::IMWRITE_JPEG_PROGRESSIVE, progressive}), "progressive");
   }
-  ExpectSameAsOpenCv(Encode(TestImage(CV_8UC1, 3), {}), "grey");
+  ExpectSameAsOpenCv(Encode(JpegTestImage(CV_8UC1, 3), {}), "grey");
 }
 
 TEST(DecodeJpeg, EqualsOpenCvOnRealFrames) {
@@ -90,7 +90,7 @@ TEST(DecodeJpeg, EqualsOpenCvOnRealFrames) {
 }
 
 TEST(DecodeJpeg, LeavesExifToOpenCvAndSaysWhenCutShort) {
-  const std::string jpeg = Encode(TestImage(CV_8UC3, 9), {});
+  const std::string jpeg = Encode(JpegTestImage(CV_8UC3, 9), {});
   cv::Mat out;
   ASSERT_EQ(DecodeJpeg(jpeg, false, &out), DecodeStatus::kDecoded);
   const cv::Mat decoded = out;

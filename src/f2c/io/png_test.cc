@@ -13,7 +13,7 @@ namespace {
 
 // A test image: smooth ramps (which the predictive filters turn into small numbers) with
 // noise, and flat grey patches (R = G = B, which the grey conversion passes through).
-cv::Mat TestImage(int type, uint32_t seed) {
+cv::Mat PngTestImage(int type, uint32_t seed) {
   cv::Mat image(37, 53, type);
   std::mt19937 rng(seed);
   const int channels = image.channels();
@@ -124,7 +124,7 @@ const Case kCases[] = {{PngRequest::kGray, cv::IMREAD_GRAYSCALE},
 TEST(DecodePng, RgbAndGreyEqualOpenCvForEveryFilterAndRequest) {
   for (int type : {CV_8UC3, CV_8UC1}) {
     for (int filter = -1; filter <= 4; ++filter) {
-      const std::string png = EncodePng(TestImage(type, 1 + filter + 10 * type), filter);
+      const std::string png = EncodePng(PngTestImage(type, 1 + filter + 10 * type), filter);
       for (const Case& c : kCases) {
         cv::Mat ours;
         ASSERT_EQ(DecodePng(png, c.request, &ours), DecodeStatus::kDecoded) << "type " << type << " filter " << filter;
@@ -136,7 +136,7 @@ TEST(DecodePng, RgbAndGreyEqualOpenCvForEveryFilterAndRequest) {
 
 TEST(DecodePng, SixteenBitDepthEqualsOpenCv) {
   for (int filter = -1; filter <= 4; ++filter) {
-    const cv::Mat depth = TestImage(CV_16UC1, 21 + filter);
+    const cv::Mat depth = PngTestImage(CV_16UC1, 21 + filter);
     const std::string png = EncodePng(depth, filter);
     cv::Mat ours;
     ASSERT_EQ(DecodePng(png, PngRequest::kUnchanged, &ours), DecodeStatus::kDecoded) << "filter " << filter;
@@ -149,7 +149,7 @@ TEST(DecodePng, EqualsOpenCvOnItsOwnFiles) {
   // libpng's own encoder picks a filter per row; every compression level.
   for (int level = 0; level <= 9; level += 3) {
     std::vector<uchar> buffer;
-    cv::imencode(".png", TestImage(CV_8UC3, 40 + level), buffer, {cv::IMWRITE_PNG_COMPRESSION, level});
+    cv::imencode(".png", PngTestImage(CV_8UC3, 40 + level), buffer, {cv::IMWRITE_PNG_COMPRESSION, level});
     const std::string png(buffer.begin(), buffer.end());
     for (const Case& c : kCases) {
       cv::Mat ours;
@@ -161,15 +161,15 @@ TEST(DecodePng, EqualsOpenCvOnItsOwnFiles) {
 
 TEST(DecodePng, LeavesOtherKindsToOpenCv) {
   cv::Mat out;
-  const cv::Mat rgb = TestImage(CV_8UC3, 5);
+  const cv::Mat rgb = PngTestImage(CV_8UC3, 5);
   // Alpha, 16-bit colour, 16-bit asked as 8-bit, a gamma chunk, a JPEG.
   std::vector<uchar> buffer;
-  cv::imencode(".png", TestImage(CV_8UC4, 6), buffer);
+  cv::imencode(".png", PngTestImage(CV_8UC4, 6), buffer);
   EXPECT_EQ(DecodePng(std::string(buffer.begin(), buffer.end()), PngRequest::kBgr, &out), DecodeStatus::kNotHandled);
-  cv::imencode(".png", TestImage(CV_16UC3, 7), buffer);
+  cv::imencode(".png", PngTestImage(CV_16UC3, 7), buffer);
   EXPECT_EQ(DecodePng(std::string(buffer.begin(), buffer.end()), PngRequest::kUnchanged, &out),
             DecodeStatus::kNotHandled);
-  EXPECT_EQ(DecodePng(EncodePng(TestImage(CV_16UC1, 8), 1), PngRequest::kGray, &out), DecodeStatus::kNotHandled);
+  EXPECT_EQ(DecodePng(EncodePng(PngTestImage(CV_16UC1, 8), 1), PngRequest::kGray, &out), DecodeStatus::kNotHandled);
   EXPECT_EQ(DecodePng(EncodePng(rgb, 1, std::string("gAMA\0\0\xb1\x8f", 8)), PngRequest::kGray, &out),
             DecodeStatus::kNotHandled);
   EXPECT_EQ(DecodePng("\xff\xd8\xff\xe0 not a png", PngRequest::kGray, &out), DecodeStatus::kNotHandled);
@@ -194,7 +194,7 @@ TEST(DecodePng, RefusesAnOversizedImageFromItsHeader) {
 }
 
 TEST(DecodePng, SaysHowADamagedFileIsDamaged) {
-  const cv::Mat rgb = TestImage(CV_8UC3, 5);
+  const cv::Mat rgb = PngTestImage(CV_8UC3, 5);
   const std::string png = EncodePng(rgb, 4);
   cv::Mat out;
   ASSERT_EQ(DecodePng(png, PngRequest::kGray, &out), DecodeStatus::kDecoded);

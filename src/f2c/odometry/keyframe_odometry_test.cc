@@ -47,7 +47,7 @@ RgbdSequence Reread(const RgbdSequence& seq, int last) {
 
 double AngleDeg(const Eigen::Matrix3d& r) { return Eigen::AngleAxisd(r).angle() * 180 / M_PI; }
 
-void ExpectMatchesTruth(const Odometry& odometry, const Poses& truth, double max_t, double max_deg) {
+void ExpectKeyframesMatchTruth(const Odometry& odometry, const Poses& truth, double max_t, double max_deg) {
   ASSERT_EQ(odometry.t0.size(), truth.size());
   for (size_t i = 1; i < truth.size(); ++i) {
     const Rigid3d expected = truth[0].inverse() * truth[i];
@@ -75,7 +75,7 @@ TEST(AlignWithKeyframes, AStillCameraKeepsOneKeyframe) {
     EXPECT_FALSE(pair.keyframe);
   }
   EXPECT_EQ(OdometryKeyframes(odometry), std::vector<int>{0});
-  ExpectMatchesTruth(odometry, poses, 0.001, 0.05);
+  ExpectKeyframesMatchTruth(odometry, poses, 0.001, 0.05);
 }
 
 // 3 degrees per frame with a 10-degree limit: frames 1-3 (3, 6, 9 degrees) stay with
@@ -94,7 +94,7 @@ TEST(AlignWithKeyframes, AFastTurnStartsAKeyframeOnceItPassesTheRotationLimit) {
     EXPECT_EQ(pair.method, AlignmentMethod::kTrack) << pair.frame;
     EXPECT_EQ(pair.reference, pair.frame / 4 * 4 - (pair.frame % 4 == 0 ? 4 : 0)) << pair.frame;
   }
-  ExpectMatchesTruth(odometry, poses, 0.01, 0.3);
+  ExpectKeyframesMatchTruth(odometry, poses, 0.01, 0.3);
 }
 
 // Without texture there is nothing to track or match: depth ICP aligns each frame to the
@@ -111,7 +111,7 @@ TEST(AlignWithKeyframes, TexturelessFramesAreAlignedByIcp) {
     EXPECT_EQ(pair.reference, pair.frame - 1);
     EXPECT_TRUE(pair.keyframe);
   }
-  ExpectMatchesTruth(odometry, poses, 0.02, 0.6);
+  ExpectKeyframesMatchTruth(odometry, poses, 0.02, 0.6);
   OdometryOptions to_keyframe;
   to_keyframe.keyframes.icp_to_keyframe = true;
   const Odometry icp = AlignWithKeyframes(seq, to_keyframe, Quiet());
@@ -121,7 +121,7 @@ TEST(AlignWithKeyframes, TexturelessFramesAreAlignedByIcp) {
     EXPECT_FALSE(pair.keyframe);
   }
   EXPECT_EQ(icp.timings.sift_frames, 1);  // the keyframe has no keypoints to match: no SIFT for the others
-  ExpectMatchesTruth(icp, poses, 0.02, 0.6);
+  ExpectKeyframesMatchTruth(icp, poses, 0.02, 0.6);
 }
 
 // Facing the textured back wall from 1.5 m, sliding 1.5 cm and rolling 0.4 deg per frame about
@@ -150,7 +150,7 @@ TEST(AlignWithKeyframes, ATexturedWallsSlideIsRecoveredFromItsImage) {
   }
   // The roll keeps part of the prediction: the blocky texture's edges measure it less
   // firmly than the slides (AnalyseViewConstraints).
-  ExpectMatchesTruth(odometry, poses, 0.003, 0.2);
+  ExpectKeyframesMatchTruth(odometry, poses, 0.003, 0.2);
   options.icp.photometric = false;
   const Odometry depth_only = AlignWithKeyframes(seq, options, Quiet());
   EXPECT_EQ(depth_only.pairs[0].degenerate, 3);
@@ -237,7 +237,7 @@ TEST(AlignFrames, KeyframesOffIsTheConsecutiveChain) {
     EXPECT_EQ(pair.method, AlignmentMethod::kSift);
     EXPECT_EQ(pair.reference, pair.frame - 1);
   }
-  ExpectMatchesTruth(odometry, poses, 0.01, 0.3);
+  ExpectKeyframesMatchTruth(odometry, poses, 0.01, 0.3);
 }
 
 }  // namespace

@@ -10,14 +10,14 @@
 namespace f2c {
 namespace {
 
-Rigid3d Exp(const Eigen::Vector3d& w, const Eigen::Vector3d& v) {
+Rigid3d Twist(const Eigen::Vector3d& w, const Eigen::Vector3d& v) {
   Rigid3d t = Rigid3d::Identity();
   if (w.norm() > 0) t.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
   t.translation() = v;
   return t;
 }
 
-cv::Mat Gray(const cv::Mat& color) {
+cv::Mat ToGray(const cv::Mat& color) {
   cv::Mat gray;
   cv::cvtColor(color, gray, cv::COLOR_BGR2GRAY);
   return gray;
@@ -31,7 +31,7 @@ double Degrees(const Rigid3d& a, const Rigid3d& b) {
 // the slides in the wall and the turn about its normal free.
 struct WallPair {
   CameraIntrinsics k = testing::TestIntrinsics();
-  Rigid3d truth = Exp({0.004, -0.006, 0.015}, {0.03, -0.02, 0.01});  // reference_from_frame
+  Rigid3d truth = Twist({0.004, -0.006, 0.015}, {0.03, -0.02, 0.01});  // reference_from_frame
   testing::RenderedFrame reference, frame;
   Eigen::Matrix<double, 6, Eigen::Dynamic> free;
   double lever = 1;
@@ -40,7 +40,7 @@ struct WallPair {
     testing::SyntheticScene scene;
     scene.textured = textured;
     // Turned to face the back wall (-z), 1.5 m from it.
-    const Rigid3d world_from_reference = Exp({0.0, M_PI, 0.0}, {0.0, 0.0, -1.0});
+    const Rigid3d world_from_reference = Twist({0.0, M_PI, 0.0}, {0.0, 0.0, -1.0});
     reference = testing::Render(scene, k, world_from_reference);
     frame = testing::Render(scene, k, world_from_reference * truth);
     const DepthConstraints depth = AnalyseDepthConstraints(reference.depth, k, 8);
@@ -49,7 +49,7 @@ struct WallPair {
   }
   // The truth moved along `direction` ((w L, v) units, on the left).
   Rigid3d Moved(const Eigen::Matrix<double, 6, 1>& direction) const {
-    return Exp(direction.head<3>() / lever, direction.tail<3>()) * truth;
+    return Twist(direction.head<3>() / lever, direction.tail<3>()) * truth;
   }
 };
 
@@ -60,8 +60,9 @@ TEST(AlignPhotometric, RecoversTheMotionsThePlainWallsDepthLeavesFree) {
   const Rigid3d start = wall.Moved(wall.free * Eigen::Vector3d(0.02, -0.015, 0.01));
   ASSERT_GT((start.translation() - wall.truth.translation()).norm(), 0.01);
   Rigid3d estimate = start;
-  const PhotometricResult r = AlignPhotometric(Gray(wall.reference.color), wall.reference.depth, Gray(wall.frame.color),
-                                               wall.k, wall.free, wall.lever, PhotometricOptions(), &estimate);
+  const PhotometricResult r =
+      AlignPhotometric(ToGray(wall.reference.color), wall.reference.depth, ToGray(wall.frame.color), wall.k, wall.free,
+                       wall.lever, PhotometricOptions(), &estimate);
   ASSERT_TRUE(r.ok);
   EXPECT_LT(r.rmse_after, 0.5 * r.rmse_before);
   EXPECT_LT((estimate.translation() - wall.truth.translation()).norm(), 0.001);
@@ -75,7 +76,7 @@ TEST(AlignPhotometric, LeavesTheOtherDirectionsAlone) {
   const DepthConstraints depth = AnalyseDepthConstraints(wall.reference.depth, wall.k, 8);
   const Rigid3d start = wall.Moved(0.005 * depth.eigenvectors.col(5));
   Rigid3d estimate = start;
-  AlignPhotometric(Gray(wall.reference.color), wall.reference.depth, Gray(wall.frame.color), wall.k, wall.free,
+  AlignPhotometric(ToGray(wall.reference.color), wall.reference.depth, ToGray(wall.frame.color), wall.k, wall.free,
                    wall.lever, PhotometricOptions(), &estimate);
   EXPECT_LT((estimate.translation() - start.translation()).norm(), 0.001);
   EXPECT_LT(Degrees(estimate, start), 0.02);
@@ -85,9 +86,9 @@ TEST(AlignPhotometric, IgnoresABrightnessChange) {
   const WallPair wall;
   const Rigid3d start = wall.Moved(wall.free * Eigen::Vector3d(0.01, 0.01, -0.01));
   cv::Mat brighter;
-  Gray(wall.frame.color).convertTo(brighter, CV_8U, 1.0, 25.0);
+  ToGray(wall.frame.color).convertTo(brighter, CV_8U, 1.0, 25.0);
   Rigid3d estimate = start;
-  ASSERT_TRUE(AlignPhotometric(Gray(wall.reference.color), wall.reference.depth, brighter, wall.k, wall.free,
+  ASSERT_TRUE(AlignPhotometric(ToGray(wall.reference.color), wall.reference.depth, brighter, wall.k, wall.free,
                                wall.lever, PhotometricOptions(), &estimate)
                   .ok);
   EXPECT_LT((estimate.translation() - wall.truth.translation()).norm(), 0.001);
@@ -98,7 +99,7 @@ TEST(AlignPhotometric, MovesNothingOnAPlainWall) {
   const WallPair wall(/*textured=*/false);
   const Rigid3d start = wall.Moved(wall.free * Eigen::Vector3d(0.02, -0.015, 0.01));
   Rigid3d estimate = start;
-  AlignPhotometric(Gray(wall.reference.color), wall.reference.depth, Gray(wall.frame.color), wall.k, wall.free,
+  AlignPhotometric(ToGray(wall.reference.color), wall.reference.depth, ToGray(wall.frame.color), wall.k, wall.free,
                    wall.lever, PhotometricOptions(), &estimate);
   EXPECT_LT((estimate.translation() - start.translation()).norm(), 1e-6);
   EXPECT_LT(Degrees(estimate, start), 1e-6);

@@ -73,7 +73,7 @@ TEST(SolvePoses, SteadyMotionTurnsBackAFrameThatOneWrongPairTurned) {
   const int bad = 4;
   PoseVector measured = truth;  // what the odometry says
   measured[bad].rotation = truth[bad].rotation * Eigen::AngleAxisd(3.0 * M_PI / 180, Eigen::Vector3d::UnitZ());
-  auto links = [n](const PoseVector& poses) {
+  auto links = [](const PoseVector& poses) {
     std::vector<RelativePoseConstraint> local;
     for (int a = 0; a + 1 < n; ++a) {
       const Rigid3d a_from_b = poses[a].ToRigid().inverse() * poses[a + 1].ToRigid();
@@ -220,7 +220,7 @@ TEST(SolvePoses, MeasuredVelocityLossLetsAMeasuredJoltStand) {
     const Rigid3d a_from_b = truth[a].ToRigid().inverse() * truth[a + 1].ToRigid();
     local.push_back({a, a + 1, Eigen::Quaterniond(a_from_b.linear()), a_from_b.translation(), 1.0});
   }
-  auto steady = [n](bool measured) {
+  auto steady = [](bool measured) {
     std::vector<SteadyMotionConstraint> v;
     for (int b = 1; b + 1 < n; ++b) v.push_back({b - 1, b, b + 1, 1.0, 1.0, 1.0, measured});
     return v;

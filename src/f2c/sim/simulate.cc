@@ -4,6 +4,8 @@
 #include <tbb/parallel_for.h>
 
 #include <opencv2/imgcodecs.hpp>
+#include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "f2c/io/ply.h"
@@ -66,7 +68,9 @@ std::vector<Correspondence> SampleCorrespondences(const Scene& scene, const Rend
   std::uniform_real_distribution<double> pu(0, k.width - 1), pv(0, k.height - 1);
   // Loop-closure pairs: far apart in time (> 5 s), close in space and view direction.
   std::vector<std::pair<int, int>> loops;
-  const int gap = static_cast<int>(5.0 * 30);
+  // The gap in frames from the mean frame interval: a scan at 30 Hz or every k-th frame of one.
+  const double interval = (poses.timestamps.back() - poses.timestamps.front()) / (n - 1);
+  const int gap = interval > 0 ? std::max(1, static_cast<int>(std::lround(5.0 / interval))) : 5 * 30;
   for (int a = 0; a < n; a += 5) {
     for (int b = a + gap; b < n; b += 5) {
       const Rigid3d& pa = poses.world_from_camera[a];

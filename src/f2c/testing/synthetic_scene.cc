@@ -149,6 +149,25 @@ std::filesystem::path FreshTempDir(const std::string& name) {
   return dir;
 }
 
+std::filesystem::path SharedTestDataDir() {
+  namespace fs = std::filesystem;
+  const fs::path exe = fs::read_symlink("/proc/self/exe");
+  const auto stamp = fs::last_write_time(exe).time_since_epoch().count();
+  const std::string prefix =
+      "f2c_test_shared_" + exe.filename().string() + "_" + std::to_string(std::hash<std::string>()(exe.string())) + "_";
+  const std::string name = prefix + std::to_string(fs::file_size(exe)) + "_" + std::to_string(stamp);
+  const fs::path dir = fs::temp_directory_path() / name;
+  if (!fs::exists(dir)) {
+    std::error_code ec;
+    for (const fs::directory_entry& e : fs::directory_iterator(fs::temp_directory_path(), ec)) {
+      const std::string other = e.path().filename().string();
+      if (other.rfind(prefix, 0) == 0 && other != name) fs::remove_all(e.path(), ec);
+    }
+    fs::create_directories(dir);
+  }
+  return dir;
+}
+
 namespace {
 
 double BoxSurfaceDistance(const Box& box, const Eigen::Vector3d& p) {

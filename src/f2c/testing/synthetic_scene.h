@@ -2,6 +2,7 @@
 // A box-shaped room with solid boxes in it, ray cast exactly: depth (CV_32F metres) and a
 // blocky procedural texture SIFT can match. Tests build scenes with known answers from it.
 
+#include <cmath>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -9,6 +10,8 @@
 #include "f2c/geometry/rigid.h"
 
 namespace f2c::testing {
+
+inline constexpr double kDeg = M_PI / 180;  // radians in a degree
 
 struct Box {
   Eigen::Vector3d min, max;
@@ -60,5 +63,12 @@ std::string InputErrorMessage(const std::function<void()>& f);
 // A fresh empty temporary folder for a test, unique to this process (so that test runs side
 // by side do not collide), removed when the process exits.
 std::filesystem::path FreshTempDir(const std::string& name);
+
+// A temporary folder that the processes of this test binary share, for data that a whole
+// suite makes once: ctest runs each test in a process of its own, so a suite's set-up runs
+// once per test. Named after the executable's path, size and modification time, so that a
+// rebuilt binary never reads what an older one wrote (and removes the older one's folder).
+// Write into it atomically (WriteFileAtomic): two processes may fill it at once.
+std::filesystem::path SharedTestDataDir();
 
 }  // namespace f2c::testing
