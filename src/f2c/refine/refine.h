@@ -1,17 +1,20 @@
 #pragma once
-// The fine-to-coarse refinement (paper §4.2, Algorithm 1), from T0:
+// The fine-to-coarse refinement (paper §4.2, Algorithm 1), from T0. RefineFineToCoarse
+// (refine.cc) is this loop, one named step per line:
 //
 //   for i in 0 .. iterations-1:                      windows of l_i frames, l_{i+1} = 2 l_i
-//     pairs  = CandidatePairs(windows_i, poses)      frames that share a window and can overlap
-//     C_i    = FindCorrespondences(pairs, poses)     closest compatible features (E_C)
-//     M      = SIFT matches of keyframe pairs that    (beyond the paper; refine/sift_loops.h)
-//              now share a window, verified
-//     H      = ProxyHierarchy(windows_i, poses)      children, coplanar parents per window
-//     G      = DetectRelations(H)                    parallel / antiparallel / orthogonal
-//     poses, planes = argmin w_C E_C + w_L E_L + w_I E_I + w_M E_M + w_V E_V
-//                            + w_P E_P + w_H E_H + w_G E_G          (optim/problem.h)
-//     check  = held-out features' agreement before and after;      (beyond the paper;
-//              an iteration that lowers it is undone                 refine/self_check.h)
+//     CloseLoops:          M = SIFT matches of keyframe pairs that now share a window,
+//                          verified; poses re-placed first where they disagree (beyond the
+//                          paper; refine/sift_loops.h)
+//     FindCorrespondences: pairs = CandidatePairs(windows_i, poses)  frames that can overlap
+//                          C_i = closest compatible features of each pair (E_C)
+//     BuildStructure:      H = ProxyHierarchy(windows_i, poses)  children, coplanar parents
+//                          G = DetectRelations(H)  parallel / antiparallel / orthogonal
+//     Solve:               poses, planes = argmin w_C E_C + w_L E_L + w_I E_I + w_M E_M
+//                            + w_V E_V + w_P E_P + w_H E_H + w_G E_G   (optim/problem.h)
+//     CheckIteration:      held-out features' agreement before and after; an iteration
+//                          that lowers it is undone (beyond the paper; refine/self_check.h)
+//   then added polish iterations while the poses still move, and CheckWholeRun.
 //
 // E_L's constraints come from the odometry once (refine/local_alignment.h), E_V's from the
 // time stamps (refine/steady_motion.h). Everything is
