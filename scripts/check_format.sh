@@ -12,12 +12,13 @@ if [ "${1:-}" = "--fix" ]; then
   clang-format -i --style=file "${files[@]}"
   exit 0
 fi
-bad=0
-for f in "${files[@]}"; do
-  if ! clang-format --dry-run --Werror --style=file "$f" > /dev/null 2>&1; then
-    echo "not formatted: $f (bash scripts/check_format.sh --fix)"
-    bad=1
-  fi
+# One clang-format per batch of files, batches in parallel (starting it per file took most of
+# the time); each file it finds unformatted is named on a line "FILE:LINE:COL: error: ...".
+mapfile -t unformatted < <(printf '%s\0' "${files[@]}" |
+  xargs -0 -n 32 -P "$(nproc)" clang-format --dry-run --Werror --style=file 2>&1 |
+  sed -n 's/^\(.*\):[0-9]*:[0-9]*: error: code should be clang-formatted.*/\1/p' | sort -u)
+for f in "${unformatted[@]}"; do
+  echo "not formatted: $f (bash scripts/check_format.sh --fix)"
 done
-[ "$bad" = 0 ] && echo "format: ${#files[@]} files follow .clang-format"
-exit "$bad"
+[ "${#unformatted[@]}" = 0 ] || exit 1
+echo "format: ${#files[@]} files follow .clang-format"
