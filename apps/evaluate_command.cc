@@ -50,11 +50,6 @@ void PrintStatsRow(const char* name, const char* unit, const ErrorStatistics& s)
               s.min, s.max, s.count);
 }
 
-json StatsJson(const ErrorStatistics& s) {
-  return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std},
-          {"min", s.min},   {"max", s.max},   {"count", s.count}};
-}
-
 }  // namespace
 
 int RunEvaluate(const EvaluateArgs& args) {
@@ -152,26 +147,8 @@ int RunEvaluate(const EvaluateArgs& args) {
     WriteFileAtomic(args.report, BuildReport(in));
   }
   if (args.json) {
-    json j = {{"estimate", args.estimate},
-              {"ground_truth", args.ground_truth},
-              {"ate_m", StatsJson(r.ate.translation)},
-              {"estimated_poses", r.ate.estimated_poses},
-              {"rpe_per_frame",
-               {{"translation_m", StatsJson(r.rpe_per_frame.translation)},
-                {"rotation_deg", StatsJson(r.rpe_per_frame.rotation)}}},
-              {"rpe_per_second",
-               {{"translation_m", StatsJson(r.rpe_per_second.translation)},
-                {"rotation_deg", StatsJson(r.rpe_per_second.rotation)}}},
-              {"rotation_drift_deg", StatsJson(r.drift.rotation)},
-              {"rotation_drift_min_seconds", r.drift.min_seconds},
-              {"rotation_drift_p99_deg", r.drift.p99},
-              {"rotation_drift_threshold_deg", r.drift.threshold_deg},
-              {"rotation_drift_share_over_threshold", r.drift.share_over}};
-    if (r.drift_smoothed.smoothing_seconds > 0) {
-      j["rotation_drift_smoothed_deg"] = StatsJson(r.drift_smoothed.rotation);
-      j["rotation_drift_smoothed_p99_deg"] = r.drift_smoothed.p99;
-      j["rotation_drift_smoothing_seconds"] = r.drift_smoothed.smoothing_seconds;
-    }
+    json j = {{"estimate", args.estimate}, {"ground_truth", args.ground_truth}};
+    j.update(ToJson(r));
     if (corr) {
       json by_gap = json::array();
       for (const GapBin& b : corr->by_gap) {
@@ -182,14 +159,14 @@ int RunEvaluate(const EvaluateArgs& args) {
                           {"median_m", b.median}});
       }
       j["correspondences"] = {{"file", correspondence_file.string()},
-                              {"distance_m", StatsJson(corr->distance)},
+                              {"distance_m", ToJson(corr->distance)},
                               {"by_frame_gap", by_gap},
                               {"skipped", corr->skipped}};
     }
     if (mesh_error) {
       j["mesh"] = {{"file", args.mesh},
                    {"true_surfaces", surfaces.string()},
-                   {"accuracy_m", StatsJson(mesh_error->accuracy)},
+                   {"accuracy_m", ToJson(mesh_error->accuracy)},
                    {"accuracy_p90_m", mesh_error->p90},
                    {"far_fraction", mesh_error->far_fraction},
                    {"completeness", mesh_error->completeness},

@@ -5,6 +5,8 @@
 # system beside us (python3-open3d, python3-joblib); the build and the tests do not need it.
 # clang, libclang-rt-14-dev: the sanitizer build and the libFuzzer targets (scripts/test_sanitized.sh).
 # clang-format: the test that the sources follow .clang-format (scripts/check_format.sh).
+# pybind11-dev, python3-dev, python3-numpy, python3-pytest: the Python module and its tests
+# (docs/python.md); python3-matplotlib: its example.
 # libopenblas0-pthread: CHOLMOD (Ceres) then uses OpenBLAS instead of the reference BLAS
 # or ATLAS; the refinement solves faster (BENCHMARKS.md). libsuitesparse-dev: CHOLMOD, which
 # also factors our own one-step normal equations (src/f2c/optim/gauss_newton.h).
@@ -17,6 +19,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libtinyxml2-dev
   libjs-three chromium
   clang libclang-rt-14-dev clang-format
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
 )
 [ "${1:-}" = "--peers" ] && packages+=(python3-open3d python3-joblib)
 

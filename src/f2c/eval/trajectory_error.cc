@@ -213,4 +213,30 @@ EvaluationResult Evaluate(const Trajectory& estimate, const Trajectory& ground_t
   return result;
 }
 
+nlohmann::json ToJson(const ErrorStatistics& s) {
+  return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std},
+          {"min", s.min},   {"max", s.max},   {"count", s.count}};
+}
+
+nlohmann::json ToJson(const EvaluationResult& r) {
+  nlohmann::json j = {
+      {"ate_m", ToJson(r.ate.translation)},
+      {"estimated_poses", r.ate.estimated_poses},
+      {"rpe_per_frame",
+       {{"translation_m", ToJson(r.rpe_per_frame.translation)}, {"rotation_deg", ToJson(r.rpe_per_frame.rotation)}}},
+      {"rpe_per_second",
+       {{"translation_m", ToJson(r.rpe_per_second.translation)}, {"rotation_deg", ToJson(r.rpe_per_second.rotation)}}},
+      {"rotation_drift_deg", ToJson(r.drift.rotation)},
+      {"rotation_drift_min_seconds", r.drift.min_seconds},
+      {"rotation_drift_p99_deg", r.drift.p99},
+      {"rotation_drift_threshold_deg", r.drift.threshold_deg},
+      {"rotation_drift_share_over_threshold", r.drift.share_over}};
+  if (r.drift_smoothed.smoothing_seconds > 0) {
+    j["rotation_drift_smoothed_deg"] = ToJson(r.drift_smoothed.rotation);
+    j["rotation_drift_smoothed_p99_deg"] = r.drift_smoothed.p99;
+    j["rotation_drift_smoothing_seconds"] = r.drift_smoothed.smoothing_seconds;
+  }
+  return j;
+}
+
 }  // namespace f2c

@@ -25,6 +25,8 @@
 
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "f2c/io/trajectory.h"
 #include "f2c/util/fields.h"
 
@@ -97,6 +99,13 @@ struct EvaluationResult {
   RotationDrift drift;
   RotationDrift drift_smoothed;  // count 0 when drift_smoothing_seconds is 0
 };
+
+// A statistic's numbers as `evaluate --json` prints them (rmse, mean, median, std, min, max,
+// count).
+nlohmann::json ToJson(const ErrorStatistics& statistics);
+// The trajectory metrics as `evaluate --json` prints them (ate_m, rpe_per_frame,
+// rpe_per_second, the rotation drift's keys), for the CLI and the Python module alike.
+nlohmann::json ToJson(const EvaluationResult& result);
 
 // InputError (naming "estimate") when fewer than 3 poses associate.
 AteResult ComputeAte(const Trajectory& estimate, const Trajectory& ground_truth, const EvaluationOptions& options = {});

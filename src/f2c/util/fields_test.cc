@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "f2c/util/fields_json.h"
+#include "f2c/util/fields_set.h"
 
 namespace f2c {
 namespace {
@@ -124,6 +125,49 @@ TEST(Fields, JsonHasEveryFieldByMemberNameWithEnumsByName) {
   EXPECT_EQ(j["shape"], "round");
   EXPECT_EQ(j["internal"], 4);
   EXPECT_EQ(j["inner"]["radius"], 2.5);
+}
+
+// Options by name, as the Python module passes its keyword arguments.
+std::string SetMessage(Outer* o, const std::string& name, const FieldValue& value) {
+  try {
+    EXPECT_TRUE(SetFieldByFlag(*o, name, value)) << name;
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Fields, SetByFlagReachesEveryKindOfField) {
+  Outer o;
+  EXPECT_TRUE(SetFieldByFlag(o, "count", FieldValue(int64_t{7})));
+  EXPECT_EQ(o.count, 7);
+  EXPECT_TRUE(SetFieldByFlag(o, "angle", FieldValue(45.5)));
+  EXPECT_EQ(o.angle_deg, 45.5);
+  EXPECT_TRUE(SetFieldByFlag(o, "angle", FieldValue(int64_t{30})));  // a whole number is a number
+  EXPECT_EQ(o.angle_deg, 30);
+  EXPECT_TRUE(SetFieldByFlag(o, "enabled", FieldValue(false)));
+  EXPECT_FALSE(o.enabled);
+  EXPECT_TRUE(SetFieldByFlag(o, "no-enabled", FieldValue(false)));  // the negated name
+  EXPECT_TRUE(o.enabled);
+  EXPECT_TRUE(SetFieldByFlag(o, "shape", FieldValue(std::string("round"))));
+  EXPECT_EQ(o.shape, Shape::kRound);
+  EXPECT_TRUE(SetFieldByFlag(o, "radius", FieldValue(2.0)));  // a nested struct's
+  EXPECT_EQ(o.inner.radius, 2.0);
+  EXPECT_FALSE(SetFieldByFlag(o, "internal", FieldValue(int64_t{5})));  // no flag, no name
+  EXPECT_FALSE(SetFieldByFlag(o, "colour", FieldValue(int64_t{5})));
+  EXPECT_EQ(o.internal, 4);
+}
+
+TEST(Fields, SetByFlagNamesTheOptionWhenTheValueIsOfTheWrongKind) {
+  Outer o;
+  EXPECT_EQ(SetMessage(&o, "count", FieldValue(2.5)), "--count: must be a whole number, got 2.5");
+  EXPECT_EQ(SetMessage(&o, "count", FieldValue(int64_t{1} << 40)),
+            "--count: must be a whole number within the option's type, got 1099511627776");
+  EXPECT_EQ(SetMessage(&o, "angle", FieldValue(std::string("wide"))), "--angle: must be a number, got 'wide'");
+  EXPECT_EQ(SetMessage(&o, "enabled", FieldValue(int64_t{1})), "--enabled: must be True or False, got 1");
+  EXPECT_EQ(SetMessage(&o, "shape", FieldValue(std::string("oval"))), "--shape: unknown value 'oval' (round, square)");
+  EXPECT_EQ(SetMessage(&o, "shape", FieldValue(true)), "--shape: must be one of round, square, got True");
+  EXPECT_EQ(o.count, 3);  // a refused value leaves the field as it was
 }
 
 }  // namespace

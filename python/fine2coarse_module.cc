@@ -1,0 +1,438 @@
+// The Python module `fine2coarse` (docs/python.md): the library's pipeline (pipeline/register.h),
+// evaluation and simulator, NumPy in and out. Options are keyword arguments named as the
+// command line's long options, with '_' for '-' (util/fields_set.h); bad input raises
+// fine2coarse.InputError (a ValueError) with the command line's one-line message, a missing
+// path FileNotFoundError. The GIL is released while the pipeline works.
+
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cerrno>
+#include <cmath>
+#include <filesystem>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "f2c/eval/trajectory_error.h"
+#include "f2c/io/sequence.h"
+#include "f2c/io/trajectory.h"
+#include "f2c/pipeline/outputs.h"
+#include "f2c/pipeline/register.h"
+#include "f2c/sim/simulate.h"
+#include "f2c/util/error.h"
+#include "f2c/util/fields_set.h"
+
+namespace py = pybind11;
+namespace fs = std::filesystem;
+
+namespace f2c::python {
+namespace {
+
+// A path argument: str or os.PathLike; FileNotFoundError when it must exist and does not.
+fs::path PathArg(const py::object& value, const char* what, bool must_exist) {
+  if (!py::isinstance<py::str>(value) && !py::hasattr(value, "__fspath__")) {
+    throw py::type_error(std::string(what) + ": must be a path (str or os.PathLike)");
+  }
+  const fs::path path = py::str(py::module_::import("os").attr("fspath")(value)).cast<std::string>();
+  if (must_exist && !fs::exists(path)) {
+    PyErr_SetObject(PyExc_FileNotFoundError,
+                    py::make_tuple(ENOENT, path.string() + ": no such file or directory", path.string()).ptr());
+    throw py::error_already_set();
+  }
+  return path;
+}
+
+// A Python keyword value as a field value: bool before int (a bool is an int in Python).
+FieldValue ToFieldValue(const std::string& name, const py::handle& value) {
+  if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
+  if (py::isinstance<py::int_>(value)) {
+    try {
+      return value.cast<int64_t>();
+    } catch (const py::cast_error&) {
+      ThrowInputError("--" + name,
+                      "must be a whole number within the option's type, got " + py::str(value).cast<std::string>());
+    }
+  }
+  if (py::isinstance<py::float_>(value)) return value.cast<double>();
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (py::hasattr(value, "__fspath__"))
+    return py::str(py::module_::import("os").attr("fspath")(value)).cast<std::string>();
+  ThrowInputError("--" + name, "must be a bool, int, float, str or path, got " +
+                                   py::str(py::type::of(value).attr("__name__")).cast<std::string>());
+}
+
+// Poses (N x 4 x 4, float64) of a trajectory.
+py::array_t<double> PoseArray(const std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>>& poses) {
+  py::array_t<double> out({static_cast<py::ssize_t>(poses.size()), py::ssize_t{4}, py::ssize_t{4}});
+  auto a = out.mutable_unchecked<3>();
+  for (size_t k = 0; k < poses.size(); ++k) {
+    const Eigen::Matrix4d m = poses[k].matrix();
+    for (int r = 0; r < 4; ++r) {
+      for (int c = 0; c < 4; ++c) a(k, r, c) = m(r, c);
+    }
+  }
+  return out;
+}
+
+// An N x 4 x 4 array (any real dtype, any strides) as rigid transforms; InputError naming
+// `what` for a wrong shape, a non-finite entry or a matrix that is not a rigid transform.
+std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> PosesFromArray(const py::handle& value,
+                                                                       const std::string& what) {
+  py::array_t<double, py::array::forcecast> array;
+  try {
+    array = py::array_t<double, py::array::forcecast>::ensure(value);
+  } catch (const py::error_already_set&) {
+  }
+  if (!array) ThrowInputError(what, "must be an array of N x 4 x 4 numbers");
+  if (array.ndim() != 3 || array.shape(1) != 4 || array.shape(2) != 4) {
+    std::string shape;
+    for (py::ssize_t i = 0; i < array.ndim(); ++i) shape += (i ? " x " : "") + std::to_string(array.shape(i));
+    ThrowInputError(what, "must have shape N x 4 x 4, got " + (shape.empty() ? std::string("a scalar") : shape));
+  }
+  std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> poses;
+  auto a = array.unchecked<3>();
+  for (py::ssize_t k = 0; k < array.shape(0); ++k) {
+    Eigen::Matrix4d m;
+    for (int r = 0; r < 4; ++r) {
+      for (int c = 0; c < 4; ++c) m(r, c) = a(k, r, c);
+    }
+    poses.push_back(RigidFromMatrixOrThrow(m, what, static_cast<int>(k) + 1));
+  }
+  return poses;
+}
+
+// A trajectory from a path (TUM, .log, .conf) or from poses and time stamps.
+Trajectory TrajectoryArg(const py::object& value, const py::object& timestamps, const std::string& what) {
+  if (py::isinstance<py::str>(value) || py::hasattr(value, "__fspath__")) {
+    return ReadTrajectoryFile(PathArg(value, what.c_str(), true));
+  }
+  Trajectory t;
+  const auto poses = PosesFromArray(value, what);
+  std::vector<double> times;
+  if (!timestamps.is_none()) {
+    times = py::array_t<double, py::array::forcecast>::ensure(timestamps).cast<std::vector<double>>();
+    if (times.size() != poses.size()) {
+      ThrowInputError(what,
+                      std::to_string(times.size()) + " time stamps for " + std::to_string(poses.size()) + " poses");
+    }
+  } else {
+    for (size_t k = 0; k < poses.size(); ++k) times.push_back(static_cast<double>(k));
+  }
+  for (size_t k = 0; k < poses.size(); ++k) {
+    if (!std::isfinite(times[k])) ThrowInputError(what, "time stamp " + std::to_string(k) + " is not finite");
+    t.Add(times[k], poses[k]);
+  }
+  t.has_timestamps = !timestamps.is_none();
+  return t;
+}
+
+py::object JsonToPython(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+
+// What register() returns: the typed result, turned into arrays on access.
+struct Result {
+  RegisterResult result;
+  RegisterOptions options;
+  IoOptions io;
+  std::string input;
+
+  nlohmann::json Stats() const {
+    OutputOptions outputs;
+    outputs.input = input;
+    outputs.io = io;
+    return RunJson(result, options, outputs);
+  }
+};
+
+// The registration's options from keyword arguments: the stages' fields by their long option
+// names, and the few words of the command line that are not fields.
+struct RegisterCall {
+  IoOptions io;
+  RegisterOptions options;
+  std::optional<fs::path> initial_trajectory;
+};
+
+RegisterCall ParseRegisterOptions(const py::kwargs& kwargs) {
+  RegisterCall call;
+  RegisterOptions& o = call.options;
+  o.quiet = true;
+  o.fuse_mesh = false;
+  Preset preset = Preset::kDefault;
+  std::vector<std::string> given;  // "--flag" of each option set, which a preset leaves alone
+  std::string stop_after = "refine";
+  for (const auto& [key, value] : kwargs) {
+    const std::string name = key.cast<std::string>();
+    std::string flag = name;
+    for (char& c : flag) c = c == '_' ? '-' : c;
+    if (value.is_none()) ThrowInputError("--" + flag, "must not be None");
+    const FieldValue v = ToFieldValue(flag, value);
+    auto want_bool = [&] {
+      if (!std::holds_alternative<bool>(v)) ThrowInputError("--" + flag, "must be True or False");
+      return std::get<bool>(v);
+    };
+    if (name == "preset") {
+      if (!std::holds_alternative<std::string>(v)) ThrowInputError("--preset", "must be a string");
+      preset = FromName<Preset>(std::get<std::string>(v), "--preset");
+    } else if (name == "stop_after") {
+      if (!std::holds_alternative<std::string>(v) ||
+          (std::get<std::string>(v) != "odometry" && std::get<std::string>(v) != "refine")) {
+        ThrowInputError("--stop-after", "must be 'odometry' or 'refine'");
+      }
+      stop_after = std::get<std::string>(v);
+    } else if (name == "mesh") {
+      o.fuse_mesh = want_bool();
+    } else if (name == "features") {
+      o.extract_features = want_bool();
+    } else if (name == "quiet") {
+      o.quiet = want_bool();
+    } else if (name == "save_iterations") {
+      o.keep_iterations = want_bool();
+    } else if (name == "threads") {
+      if (!std::holds_alternative<int64_t>(v)) ThrowInputError("--threads", "must be a whole number");
+      const int64_t t = std::get<int64_t>(v);
+      if (t < 0 || t > 1024) ThrowInputError("--threads", "must be in [0, 1024], got " + std::to_string(t));
+      o.threads = static_cast<int>(t);
+    } else if (name == "initial_trajectory") {
+      call.initial_trajectory = PathArg(py::reinterpret_borrow<py::object>(value), "--initial-trajectory", true);
+    } else if (!SetFieldByFlag(call.io, flag, v) && !SetFieldByFlag(o.odometry, flag, v) &&
+               !SetFieldByFlag(o.features, flag, v) && !SetFieldByFlag(o.refine, flag, v) &&
+               !SetFieldByFlag(o.fusion, flag, v)) {
+      ThrowInputError(name, "unknown option (register's options, with '_' for '-': fine2coarse register --help-all)");
+    }
+    given.push_back("--" + flag);
+  }
+  ApplyPreset(preset, &o, [&](const std::string& f) {
+    for (const std::string& g : given) {
+      if (g == f) return true;
+    }
+    return false;
+  });
+  o.preset = preset;
+  o.refine_poses = stop_after == "refine";
+  if (stop_after == "odometry") o.fuse_mesh = false;
+  o.CheckStart(call.initial_trajectory.has_value());
+  call.io.Check();
+  o.Check();
+  return call;
+}
+
+// The progress callback, called from the pipeline's threads with the GIL taken; the first
+// exception it raises is kept and raised when register() returns.
+struct ProgressBridge {
+  py::object callback;
+  std::mutex mutex;
+  std::optional<py::error_already_set> error;
+
+  ProgressListener Listener() {
+    if (callback.is_none()) return nullptr;
+    return [this](const std::string& stage, long done, long total) {
+      py::gil_scoped_acquire gil;
+      std::lock_guard<std::mutex> lock(mutex);
+      if (error) return;
+      try {
+        callback(stage, done, total);
+      } catch (py::error_already_set& e) {
+        error.emplace(std::move(e));
+      }
+    };
+  }
+};
+
+Result RegisterSequence(RgbdSequence sequence, RegisterCall call, const py::object& progress, std::string input) {
+  ProgressBridge bridge;
+  bridge.callback = progress;
+  call.options.progress = bridge.Listener();
+  Result r;
+  r.io = call.io;
+  r.input = std::move(input);
+  if (call.initial_trajectory) {
+    call.options.initial_poses = PosesFor(sequence, *call.initial_trajectory, call.io);
+    call.options.initial_name = call.initial_trajectory->string();
+  }
+  {
+    py::gil_scoped_release release;
+    r.result = Register(std::move(sequence), call.options);
+  }
+  call.options.progress = nullptr;  // the callback must not outlive the call
+  r.options = std::move(call.options);
+  if (bridge.error) throw std::move(*bridge.error);
+  return r;
+}
+
+Result RegisterPath(const py::object& path, const py::object& progress, const py::kwargs& kwargs) {
+  const fs::path input = PathArg(path, "path", true);
+  RegisterCall call = ParseRegisterOptions(kwargs);
+  RgbdSequence sequence = ReadSequence(input, call.io);
+  return RegisterSequence(std::move(sequence), std::move(call), progress, fs::absolute(input).string());
+}
+
+py::dict Mesh(const Result& r) {
+  const PlyPoints& m = r.result.fusion->mesh;
+  const auto n = static_cast<py::ssize_t>(m.positions.size());
+  py::array_t<double> vertices({n, py::ssize_t{3}}), normals({m.normals.empty() ? 0 : n, py::ssize_t{3}});
+  py::array_t<int32_t> triangles({static_cast<py::ssize_t>(m.faces.size()), py::ssize_t{3}});
+  py::array_t<uint8_t> colors({m.colors.empty() ? 0 : n, py::ssize_t{3}});
+  auto v = vertices.mutable_unchecked<2>();
+  auto nn = normals.mutable_unchecked<2>();
+  auto t = triangles.mutable_unchecked<2>();
+  auto c = colors.mutable_unchecked<2>();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      v(i, k) = m.positions[i][k];
+      if (!m.normals.empty()) nn(i, k) = m.normals[i][k];
+      if (!m.colors.empty()) c(i, k) = m.colors[i][k];
+    }
+  }
+  for (size_t i = 0; i < m.faces.size(); ++i) {
+    for (int k = 0; k < 3; ++k) t(i, k) = m.faces[i][k];
+  }
+  py::dict d;
+  d["vertices"] = vertices;
+  d["triangles"] = triangles;
+  d["colors"] = colors;
+  d["normals"] = normals;
+  return d;
+}
+
+py::dict Evaluate(const py::object& estimate, const py::object& ground_truth, const py::object& timestamps,
+                  const py::object& ground_truth_timestamps, double max_time_difference) {
+  EvaluationOptions options;
+  options.max_time_difference = max_time_difference;
+  options.Check();
+  Trajectory gt;
+  if ((py::isinstance<py::str>(ground_truth) || py::hasattr(ground_truth, "__fspath__"))) {
+    const fs::path path = PathArg(ground_truth, "ground_truth", true);
+    std::optional<RgbdSequence> dataset;
+    gt = fs::is_directory(path) ? LoadGroundTruth(path, IoOptions(), &dataset) : ReadTrajectoryFile(path);
+  } else {
+    gt = TrajectoryArg(ground_truth, ground_truth_timestamps, "ground_truth");
+  }
+  const Trajectory est = TrajectoryArg(estimate, timestamps, "estimate");
+  EvaluationResult r;
+  {
+    py::gil_scoped_release release;
+    r = f2c::Evaluate(est, gt, options);
+  }
+  return JsonToPython(ToJson(r));
+}
+
+py::array_t<double> Simulate(const std::string& scene, int frames, uint64_t seed, const py::object& out,
+                             int correspondences) {
+  const fs::path dir = PathArg(out, "out", false);
+  sim::SimulateOptions options;
+  options.scene = scene;
+  options.seed = seed;
+  options.walk.frames = frames;
+  options.correspondences = correspondences;
+  options.Check();
+  Trajectory truth;
+  {
+    py::gil_scoped_release release;
+    truth = sim::Simulate(dir, options, true);
+  }
+  return PoseArray(truth.world_from_camera);
+}
+
+}  // namespace
+}  // namespace f2c::python
+
+PYBIND11_MODULE(fine2coarse, m) {
+  using namespace f2c::python;
+  m.doc() =
+      "fine2coarse: globally consistent camera poses and a mesh from an RGB-D video (fine-to-coarse global "
+      "registration, Halber & Funkhouser, CVPR 2017). See docs/python.md.";
+  py::register_exception<f2c::InputError>(m, "InputError", PyExc_ValueError);
+
+  py::class_<Result>(m, "Result", "A registration's result: poses as arrays, the run's record, the mesh when asked.")
+      .def_property_readonly(
+          "poses", [](const Result& r) { return PoseArray(r.result.poses.world_from_camera); },
+          "N x 4 x 4 float64: each frame's camera-to-world pose (refined, or T0 where the refinement did not run)")
+      .def_property_readonly(
+          "t0", [](const Result& r) { return PoseArray(r.result.odometry.t0.world_from_camera); },
+          "N x 4 x 4 float64: the odometry's poses (T0)")
+      .def_property_readonly(
+          "timestamps", [](const Result& r) { return py::array_t<double>(py::cast(r.result.poses.timestamps)); },
+          "N float64: each frame's time stamp (seconds)")
+      .def_property_readonly(
+          "frame_ids",
+          [](const Result& r) {
+            std::vector<std::string> ids;
+            for (const f2c::RgbdFrame& f : r.result.sequence.frames) ids.push_back(f.name);
+            return ids;
+          },
+          "each frame's name (its depth image's file name)")
+      .def_property_readonly(
+          "odometry",
+          [](const Result& r) {
+            py::list out;
+            for (const f2c::PairAlignment& p : r.result.odometry.pairs) {
+              py::dict d;
+              d["frame"] = p.frame;
+              d["reference"] = p.Reference();
+              d["method"] = f2c::MethodName(p.method);
+              d["inliers"] = p.inliers;
+              d["fitness"] = p.fitness;
+              out.append(d);
+            }
+            return out;
+          },
+          "per frame after the first: how the odometry aligned it (frame, reference, method, inliers, fitness)")
+      .def_property_readonly(
+          "stats", [](const Result& r) { return JsonToPython(r.Stats()); },
+          "the run's record, as the command line's run.json holds it (a dict)")
+      .def_property_readonly(
+          "mesh", [](const Result& r) -> py::object { return r.result.fusion ? py::object(Mesh(r)) : py::none(); },
+          "with mesh=True: a dict of vertices (V x 3 float64), triangles (T x 3 int32), colors (V x 3 uint8) and "
+          "normals (V x 3 float64); else None")
+      .def(
+          "save",
+          [](const Result& r, const py::object& outdir, bool report) {
+            const fs::path dir = PathArg(outdir, "outdir", false);
+            f2c::OutputOptions outputs;
+            outputs.report = report;
+            outputs.iterations = r.options.keep_iterations;
+            outputs.input = r.input;
+            outputs.io = r.io;
+            py::gil_scoped_release release;
+            return f2c::WriteOutputs(dir, r.result, r.options, outputs);
+          },
+          py::arg("outdir"), py::arg("report") = true,
+          "Writes the command line's files into outdir (trajectory.txt, trajectory.log, trajectory.conf, "
+          "trajectory_t0.txt, odometry.json, run.json, mesh.ply when fused, report.html unless report=False); "
+          "returns their names")
+      .def("__repr__", [](const Result& r) {
+        return "<fine2coarse.Result: " + std::to_string(r.result.poses.size()) + " frames, " +
+               (r.result.refine ? "refined" : "T0") + (r.result.fusion ? ", mesh" : "") + ">";
+      });
+
+  m.def("register", &RegisterPath, py::arg("path"), py::kw_only(), py::arg("progress") = py::none(),
+        R"(Registers a dataset folder (TUM, 7-Scenes/3DMatch, Redwood/Open3D, SUN3D) or a .conf file.
+
+Keyword options are the command line's (fine2coarse register --help-all) with '_' for '-':
+intrinsics='tum-fr1', every=2, first=0, last=-1, preset='fast'|'default'|'paper',
+stop_after='odometry'|'refine', structure=False, self_check=False, seed=0, voxel_size=0.01, ...
+Beyond them: mesh=True fuses a mesh (off by default), features=False skips the features and the
+refinement, quiet=False prints the command line's progress, threads=N, save_iterations=True,
+initial_trajectory=PATH. progress=callable(stage, done, total) hears each stage's progress.
+The GIL is released while it works. Returns a Result.)");
+
+  m.def("evaluate", &Evaluate, py::arg("estimate"), py::arg("ground_truth"), py::kw_only(),
+        py::arg("timestamps") = py::none(), py::arg("ground_truth_timestamps") = py::none(),
+        py::arg("max_time_difference") = f2c::EvaluationOptions().max_time_difference,
+        R"(ATE, RPE and rotation drift of a trajectory against the ground truth, as `evaluate --json` gives them.
+
+estimate: a trajectory file (TUM, .log, .conf) or an N x 4 x 4 array of camera-to-world poses
+(with timestamps=, else frame indices). ground_truth: a trajectory file, a dataset folder with
+ground truth, or an array (with ground_truth_timestamps=). Poses are associated by time stamp
+within max_time_difference seconds. Returns a dict (ate_m, rpe_per_frame, rpe_per_second,
+rotation_drift_deg, ...).)");
+
+  m.def("simulate", &Simulate, py::arg("scene"), py::arg("frames"), py::arg("seed"), py::arg("out"), py::kw_only(),
+        py::arg("correspondences") = 400,
+        R"(Simulates a scan into the folder out (a TUM layout with groundtruth.txt, correspondences.txt and
+scene.ply), as `fine2coarse simulate` does: scene two-rooms, apartment, apartment-square,
+corridor or object. Returns the true poses (frames x 4 x 4).)");
+}
