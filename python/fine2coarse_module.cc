@@ -13,11 +13,22 @@
 #include <cmath>
 #include <filesystem>
 #include <mutex>
+#include <unistd.h>
+#include <cstring>
+#include <array>
+#include <atomic>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
 #include "f2c/eval/trajectory_error.h"
+#include "f2c/io/image.h"
 #include "f2c/io/sequence.h"
 #include "f2c/io/trajectory.h"
 #include "f2c/pipeline/outputs.h"
@@ -25,6 +36,7 @@
 #include "f2c/sim/simulate.h"
 #include "f2c/util/error.h"
 #include "f2c/util/fields_set.h"
+#include "f2c/util/file.h"
 
 namespace py = pybind11;
 namespace fs = std::filesystem;
@@ -269,6 +281,183 @@ Result RegisterPath(const py::object& path, const py::object& progress, const py
   return RegisterSequence(std::move(sequence), std::move(call), progress, fs::absolute(input).string());
 }
 
+// A dataset as read_sequence() returns it: frames decoded on access.
+struct Sequence {
+  RgbdSequence sequence;
+
+  py::tuple Frame(py::ssize_t i) const {
+    const auto n = static_cast<py::ssize_t>(sequence.frames.size());
+    if (i < 0) i += n;
+    if (i < 0 || i >= n) throw py::index_error("frame " + std::to_string(i) + " of " + std::to_string(n));
+    const RgbdFrame& frame = sequence.frames[i];
+    cv::Mat depth, color;
+    {
+      py::gil_scoped_release release;
+      depth = LoadDepthMeters(sequence, frame);
+      color = LoadColor(sequence, frame, depth.size());
+      cv::cvtColor(color, color, cv::COLOR_BGR2RGB);
+    }
+    py::array_t<uint8_t> c({color.rows, color.cols, 3});
+    py::array_t<float> d({depth.rows, depth.cols});
+    for (int y = 0; y < color.rows; ++y) {
+      std::memcpy(c.mutable_data(y, 0, 0), color.ptr<uint8_t>(y), static_cast<size_t>(color.cols) * 3);
+      std::memcpy(d.mutable_data(y, 0), depth.ptr<float>(y), static_cast<size_t>(depth.cols) * sizeof(float));
+    }
+    return py::make_tuple(c, d);
+  }
+};
+
+py::dict IntrinsicsDict(const CameraIntrinsics& k) {
+  py::dict d;
+  d["fx"] = k.fx;
+  d["fy"] = k.fy;
+  d["cx"] = k.cx;
+  d["cy"] = k.cy;
+  d["width"] = k.width;
+  d["height"] = k.height;
+  d["distortion"] = std::vector<double>(k.distortion.begin(), k.distortion.end());
+  return d;
+}
+
+Sequence ReadSequenceArg(const py::object& path, const py::kwargs& kwargs) {
+  const fs::path input = PathArg(path, "path", true);
+  IoOptions io;
+  for (const auto& [key, value] : kwargs) {
+    std::string flag = key.cast<std::string>();
+    for (char& c : flag) c = c == '_' ? '-' : c;
+    if (value.is_none()) ThrowInputError("--" + flag, "must not be None");
+    if (!SetFieldByFlag(io, flag, ToFieldValue(flag, value))) {
+      ThrowInputError(key.cast<std::string>(),
+                      "unknown option (read_sequence takes intrinsics, first, last, every, "
+                      "sequence)");
+    }
+  }
+  io.Check();
+  return Sequence{ReadSequence(input, io)};
+}
+
+// One image of a list or array of images, as a C-contiguous array of `dtype`; InputError
+// naming the argument when its shape is not `channels` deep or its size differs.
+template <class T>
+py::array_t<T, py::array::c_style> ImageArg(const py::handle& item, const char* what, size_t k, int channels,
+                                            py::ssize_t height, py::ssize_t width) {
+  const auto array = py::array::ensure(item);
+  if (!array) ThrowInputError(what, fmt::format("frame {}: not an array", k));
+  if (!array.dtype().is(py::dtype::of<T>())) {
+    ThrowInputError(what, fmt::format("frame {}: dtype {} (wanted {})", k, py::str(array.dtype()).cast<std::string>(),
+                                      py::str(py::dtype::of<T>()).cast<std::string>()));
+  }
+  const bool shape_ok = channels == 1 ? array.ndim() == 2 : array.ndim() == 3 && array.shape(2) == channels;
+  if (!shape_ok || (height > 0 && (array.shape(0) != height || array.shape(1) != width))) {
+    std::string shape;
+    for (py::ssize_t i = 0; i < array.ndim(); ++i) shape += (i ? " x " : "") + std::to_string(array.shape(i));
+    ThrowInputError(what, fmt::format("frame {}: shape {} (wanted {}{})", k, shape,
+                                      height > 0 ? fmt::format("{} x {}", height, width) : std::string("H x W"),
+                                      channels == 1 ? "" : " x 3"));
+  }
+  return py::array_t<T, py::array::c_style>::ensure(array);
+}
+
+// Frames in memory, written as a TUM folder (PNG colour, 16-bit PNG depth at TUM's 5000 units
+// per metre, rgb.txt, depth.txt) in a temporary folder and registered from there: the one
+// reader every stage already trusts. Depth: uint16 in units of depth_scale metres, or float32
+// metres; stored at 0.2 mm, and beyond 13.1 m (the PNG's range at that unit) as invalid.
+Result RegisterFrames(const py::sequence& colors, const py::sequence& depths, const py::object& intrinsics,
+                      const py::object& timestamps, double depth_scale, const py::object& progress,
+                      const py::kwargs& kwargs) {
+  const size_t n = py::len(colors);
+  if (py::len(depths) != n)
+    ThrowInputError("depths", fmt::format("{} depth images for {} colour images", py::len(depths), n));
+  if (n < 2) ThrowInputError("colors", "registration needs at least 2 frames");
+  if (!(depth_scale > 0) || !std::isfinite(depth_scale)) {
+    ThrowInputError("depth_scale", fmt::format("must be a positive number of metres per unit, got {}", depth_scale));
+  }
+  std::vector<double> times;
+  if (!timestamps.is_none()) {
+    times = py::array_t<double, py::array::forcecast>::ensure(timestamps).cast<std::vector<double>>();
+    if (times.size() != n) ThrowInputError("timestamps", fmt::format("{} time stamps for {} frames", times.size(), n));
+    for (size_t k = 0; k < n; ++k) {
+      if (!std::isfinite(times[k]) || (k > 0 && times[k] <= times[k - 1])) {
+        ThrowInputError("timestamps", fmt::format("must be finite and increasing (frame {})", k));
+      }
+    }
+  } else {
+    for (size_t k = 0; k < n; ++k) times.push_back(static_cast<double>(k) / 30.0);
+  }
+  std::array<double, 4> k4{};
+  try {
+    if (py::isinstance<py::dict>(intrinsics)) {
+      const py::dict d = intrinsics;
+      k4 = {d["fx"].cast<double>(), d["fy"].cast<double>(), d["cx"].cast<double>(), d["cy"].cast<double>()};
+    } else {
+      const auto v = intrinsics.cast<std::vector<double>>();
+      if (v.size() != 4) throw py::cast_error();
+      k4 = {v[0], v[1], v[2], v[3]};
+    }
+  } catch (const py::error_already_set&) {
+    ThrowInputError("intrinsics", "must be (fx, fy, cx, cy) or a dict with fx, fy, cx, cy");
+  } catch (const py::cast_error&) {
+    ThrowInputError("intrinsics", "must be (fx, fy, cx, cy) or a dict with fx, fy, cx, cy");
+  }
+  RegisterCall call = ParseRegisterOptions(kwargs);
+  call.io.intrinsics = fmt::format("{:.17g},{:.17g},{:.17g},{:.17g}", k4[0], k4[1], k4[2], k4[3]);
+
+  static std::atomic<int> calls{0};
+  const fs::path dir = fs::temp_directory_path() / fmt::format("fine2coarse_frames_{}_{}", getpid(), calls++);
+  fs::remove_all(dir);
+  fs::create_directories(dir / "rgb");
+  fs::create_directories(dir / "depth");
+  struct Cleanup {
+    fs::path dir;
+    ~Cleanup() {
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+    }
+  } cleanup{dir};
+  std::string rgb_txt = "# color images (fine2coarse.register_frames)\n", depth_txt = "# depth images\n";
+  py::ssize_t height = 0, width = 0;
+  for (size_t k = 0; k < n; ++k) {
+    const auto c = ImageArg<uint8_t>(colors[k], "colors", k, 3, height, width);
+    height = c.shape(0);
+    width = c.shape(1);
+    cv::Mat bgr;
+    cv::cvtColor(cv::Mat(static_cast<int>(height), static_cast<int>(width), CV_8UC3, const_cast<uint8_t*>(c.data())),
+                 bgr, cv::COLOR_RGB2BGR);
+    cv::Mat units(static_cast<int>(height), static_cast<int>(width), CV_16U);
+    const py::object d = depths[k];
+    const auto as_float = py::array::ensure(d);
+    if (as_float && as_float.dtype().is(py::dtype::of<float>())) {
+      const auto m = ImageArg<float>(d, "depths", k, 1, height, width);
+      for (int y = 0; y < units.rows; ++y) {
+        for (int x = 0; x < units.cols; ++x) {
+          const double v = std::round(static_cast<double>(*m.data(y, x)) * 5000.0);
+          units.at<uint16_t>(y, x) = std::isfinite(v) && v > 0 && v <= 65535 ? static_cast<uint16_t>(v) : 0;
+        }
+      }
+    } else {
+      const auto u = ImageArg<uint16_t>(d, "depths", k, 1, height, width);
+      for (int y = 0; y < units.rows; ++y) {
+        for (int x = 0; x < units.cols; ++x) {
+          const double v = std::round(*u.data(y, x) * depth_scale * 5000.0);
+          units.at<uint16_t>(y, x) = v > 0 && v <= 65535 ? static_cast<uint16_t>(v) : 0;
+        }
+      }
+    }
+    const std::string name = fmt::format("{:.6f}", times[k]);
+    if (!cv::imwrite((dir / "rgb" / (name + ".png")).string(), bgr) ||
+        !cv::imwrite((dir / "depth" / (name + ".png")).string(), units)) {
+      ThrowInputError(dir, "cannot write the frames");
+    }
+    rgb_txt += fmt::format("{} rgb/{}.png\n", name, name);
+    depth_txt += fmt::format("{} depth/{}.png\n", name, name);
+  }
+  WriteFileAtomic(dir / "depth.txt", depth_txt);
+  WriteFileAtomic(dir / "rgb.txt", rgb_txt);
+  RgbdSequence sequence = ReadSequence(dir, call.io);
+  Result r = RegisterSequence(std::move(sequence), std::move(call), progress, "(frames in memory)");
+  return r;
+}
+
 py::dict Mesh(const Result& r) {
   const PlyPoints& m = r.result.fusion->mesh;
   const auto n = static_cast<py::ssize_t>(m.positions.size());
@@ -418,6 +607,71 @@ Beyond them: mesh=True fuses a mesh (off by default), features=False skips the f
 refinement, quiet=False prints the command line's progress, threads=N, save_iterations=True,
 initial_trajectory=PATH. progress=callable(stage, done, total) hears each stage's progress.
 The GIL is released while it works. Returns a Result.)");
+
+  py::class_<Sequence>(m, "Sequence", "A dataset as read_sequence() reads it; frames are decoded on access.")
+      .def("__len__", [](const Sequence& s) { return s.sequence.frames.size(); })
+      .def("__getitem__", &Sequence::Frame, py::arg("index"),
+           "(color, depth): H x W x 3 uint8 RGB and H x W float32 metres (0: no depth), as the pipeline reads them "
+           "(resampled to the pinhole model where the intrinsics carry distortion)")
+      .def_property_readonly(
+          "timestamps",
+          [](const Sequence& s) {
+            std::vector<double> t;
+            for (const f2c::RgbdFrame& f : s.sequence.frames) t.push_back(f.timestamp);
+            return py::array_t<double>(py::cast(t));
+          },
+          "N float64 seconds")
+      .def_property_readonly(
+          "frame_ids",
+          [](const Sequence& s) {
+            std::vector<std::string> ids;
+            for (const f2c::RgbdFrame& f : s.sequence.frames) ids.push_back(f.name);
+            return ids;
+          },
+          "each frame's name")
+      .def_property_readonly(
+          "intrinsics",
+          [](const Sequence& s) -> py::object {
+            return s.sequence.intrinsics ? py::object(IntrinsicsDict(*s.sequence.intrinsics)) : py::none();
+          },
+          "fx, fy, cx, cy, width, height, distortion; None where the folder carries none (TUM: pass intrinsics=)")
+      .def_property_readonly(
+          "ground_truth",
+          [](const Sequence& s) -> py::object {
+            if (!s.sequence.ground_truth) return py::none();
+            const std::vector<std::optional<f2c::Rigid3d>> at =
+                f2c::PosesForFrames(s.sequence, *s.sequence.ground_truth, f2c::IoOptions().max_time_difference,
+                                    s.sequence.ground_truth_source);
+            py::array_t<double> out({static_cast<py::ssize_t>(at.size()), py::ssize_t{4}, py::ssize_t{4}});
+            auto a = out.mutable_unchecked<3>();
+            for (size_t k = 0; k < at.size(); ++k) {
+              const Eigen::Matrix4d m =
+                  at[k] ? at[k]->matrix() : Eigen::Matrix4d::Constant(std::numeric_limits<double>::quiet_NaN());
+              for (int r = 0; r < 4; ++r) {
+                for (int c = 0; c < 4; ++c) a(k, r, c) = m(r, c);
+              }
+            }
+            return out;
+          },
+          "N x 4 x 4 camera-to-world poses of the frames (NaN where a frame has none), or None")
+      .def_property_readonly(
+          "layout", [](const Sequence& s) { return f2c::LayoutName(s.sequence.layout); }, "the layout detected")
+      .def("__repr__", [](const Sequence& s) {
+        return "<fine2coarse.Sequence: " + s.sequence.root.string() + ", " + f2c::LayoutName(s.sequence.layout) + ", " +
+               std::to_string(s.sequence.frames.size()) + " frames>";
+      });
+
+  m.def("read_sequence", &ReadSequenceArg, py::arg("path"),
+        R"(Reads a dataset folder or .conf as register() would (intrinsics=, first=, last=, every=, sequence=).
+Returns a Sequence: len(), seq[i] -> (color RGB uint8, depth float32 metres), timestamps,
+frame_ids, intrinsics, ground_truth (N x 4 x 4 or None), layout.)");
+
+  m.def("register_frames", &RegisterFrames, py::arg("colors"), py::arg("depths"), py::arg("intrinsics"), py::kw_only(),
+        py::arg("timestamps") = py::none(), py::arg("depth_scale") = 0.001, py::arg("progress") = py::none(),
+        R"(Registers frames already in memory (from a camera's SDK): colors, a list or array of H x W x 3
+uint8 RGB images; depths, H x W uint16 (units of depth_scale metres, default millimetres) or
+float32 metres; intrinsics (fx, fy, cx, cy) or a dict; timestamps in seconds (default 30 Hz).
+Depth is kept at 0.2 mm (TUM's unit; beyond 13.1 m it is invalid). Options as register().)");
 
   m.def("evaluate", &Evaluate, py::arg("estimate"), py::arg("ground_truth"), py::kw_only(),
         py::arg("timestamps") = py::none(), py::arg("ground_truth_timestamps") = py::none(),

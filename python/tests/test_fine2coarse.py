@@ -142,6 +142,55 @@ def test_an_exception_in_the_progress_callback_reaches_the_caller(scan):
         fine2coarse.register(scan[0], window_frames=4, stop_after="odometry", progress=fail)
 
 
+def test_read_sequence_gives_the_frames_and_truth(scan):
+    seq = fine2coarse.read_sequence(scan[0])
+    assert len(seq) == 30 and seq.layout == "tum"
+    color, depth = seq[0]
+    assert color.shape == (480, 640, 3) and color.dtype == np.uint8
+    assert depth.shape == (480, 640) and depth.dtype == np.float32
+    assert 0.3 < np.median(depth[depth > 0]) < 10  # metres
+    np.testing.assert_allclose(seq.ground_truth, scan[1], atol=4e-9)  # the file's 9 decimals
+    assert seq.intrinsics["fx"] == 525.0
+    with pytest.raises(IndexError):
+        seq[30]
+    assert seq[-1][1].shape == (480, 640)
+
+
+def test_register_frames_equals_register(scan, registered):
+    seq = fine2coarse.read_sequence(scan[0])
+    frames = [seq[i] for i in range(len(seq))]
+    k = seq.intrinsics
+    r = fine2coarse.register_frames([c for c, _ in frames], [d for _, d in frames], (k["fx"], k["fy"], k["cx"], k["cy"]),
+                                    timestamps=seq.timestamps, window_frames=4)
+    np.testing.assert_array_equal(r.poses, registered.poses)
+    # Depth as millimetres in uint16 is the same scan (whole millimetres: 0.2 mm steps lost).
+    mm = [np.round(d * 1000).astype(np.uint16) for _, d in frames]
+    r_mm = fine2coarse.register_frames(np.stack([c for c, _ in frames]), mm, k, timestamps=seq.timestamps,
+                                       window_frames=4, stop_after="odometry")
+    assert r_mm.poses.shape == (30, 4, 4)
+
+
+def test_register_frames_refuses_what_it_cannot_read(scan):
+    seq = fine2coarse.read_sequence(scan[0])
+    c, d = seq[0]
+    k = (525.0, 525.0, 319.5, 239.5)
+    cases = [
+        (([c, c], [d]), {}, "depths: 1 depth images for 2 colour images"),
+        (([c], [d]), {}, "colors: registration needs at least 2 frames"),
+        (([c, c[:, :, 0]], [d, d]), {}, "colors: frame 1: shape 480 x 640 (wanted 480 x 640 x 3)"),
+        (([c, c], [d, d.astype(np.float64)]), {}, "depths: frame 1: dtype float64 (wanted uint16)"),
+        (([c, c], [d, d[:100]]), {}, "depths: frame 1: shape 100 x 640 (wanted 480 x 640)"),
+        (([c, c], [d, d]), {"timestamps": [1.0, 1.0]}, "timestamps: must be finite and increasing (frame 1)"),
+        (([c, c], [d, d]), {"depth_scale": 0.0}, "depth_scale: must be a positive number of metres per unit"),
+    ]
+    for (colors, depths), extra, message in cases:
+        with pytest.raises(fine2coarse.InputError) as e:
+            fine2coarse.register_frames(colors, depths, k, **extra)
+        assert message in str(e.value)
+    with pytest.raises(fine2coarse.InputError, match="intrinsics: must be"):
+        fine2coarse.register_frames([c, c], [d, d], (1.0, 2.0))
+
+
 BAD_REGISTER = [
     ({"colour": 3}, "colour: unknown option"),
     ({"window_frames": 1}, "--window-frames: must be >= 2, got 1"),
