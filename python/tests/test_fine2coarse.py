@@ -17,8 +17,14 @@ CLI = os.environ.get("F2C_CLI", "fine2coarse")
 SHARED = os.environ.get("F2C_SHARED_DATA_DIR", "")
 
 
+# Under the sanitized build ctest preloads AddressSanitizer's runtime for Python; the command
+# line links its own, and must not get a second.
+UNDER_ASAN = "asan" in os.environ.get("LD_PRELOAD", "")
+
+
 def cli(*args):
-    return subprocess.run([CLI, *map(str, args)], check=True, capture_output=True, text=True).stdout
+    env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
+    return subprocess.run([CLI, *map(str, args)], check=True, capture_output=True, text=True, env=env).stdout
 
 
 @pytest.fixture(scope="module")
@@ -256,6 +262,8 @@ def rss_kib():
     return 0
 
 
+@pytest.mark.skipif(UNDER_ASAN, reason="AddressSanitizer's quarantine holds freed memory: RSS measures no leak there "
+                    "(bash scripts/test.sh --release runs it)")
 def test_repeated_calls_do_not_leak(scan, registered):
     truth = scan[0] / "groundtruth.txt"
 
