@@ -150,18 +150,8 @@ int RunEvaluate(const EvaluateArgs& args) {
     json j = {{"estimate", args.estimate}, {"ground_truth", args.ground_truth}};
     j.update(ToJson(r));
     if (corr) {
-      json by_gap = json::array();
-      for (const GapBin& b : corr->by_gap) {
-        by_gap.push_back({{"gap_from", b.gap_lo},
-                          {"gap_to", b.gap_hi},
-                          {"count", b.count},
-                          {"mean_m", b.mean},
-                          {"median_m", b.median}});
-      }
-      j["correspondences"] = {{"file", correspondence_file.string()},
-                              {"distance_m", ToJson(corr->distance)},
-                              {"by_frame_gap", by_gap},
-                              {"skipped", corr->skipped}};
+      j["correspondences"] = ToJson(*corr);
+      j["correspondences"]["file"] = correspondence_file.string();
     }
     if (mesh_error) {
       j["mesh"] = {{"file", args.mesh},

@@ -27,7 +27,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "f2c/eval/correspondence_error.h"
 #include "f2c/eval/trajectory_error.h"
+#include "f2c/io/ply.h"
 #include "f2c/io/image.h"
 #include "f2c/io/sequence.h"
 #include "f2c/io/trajectory.h"
@@ -458,8 +460,7 @@ Result RegisterFrames(const py::sequence& colors, const py::sequence& depths, co
   return r;
 }
 
-py::dict Mesh(const Result& r) {
-  const PlyPoints& m = r.result.fusion->mesh;
+py::dict MeshDict(const PlyPoints& m) {
   const auto n = static_cast<py::ssize_t>(m.positions.size());
   py::array_t<double> vertices({n, py::ssize_t{3}}), normals({m.normals.empty() ? 0 : n, py::ssize_t{3}});
   py::array_t<int32_t> triangles({static_cast<py::ssize_t>(m.faces.size()), py::ssize_t{3}});
@@ -492,20 +493,75 @@ py::dict Evaluate(const py::object& estimate, const py::object& ground_truth, co
   options.max_time_difference = max_time_difference;
   options.Check();
   Trajectory gt;
+  std::optional<RgbdSequence> dataset;
+  fs::path correspondence_file;
   if ((py::isinstance<py::str>(ground_truth) || py::hasattr(ground_truth, "__fspath__"))) {
     const fs::path path = PathArg(ground_truth, "ground_truth", true);
-    std::optional<RgbdSequence> dataset;
     gt = fs::is_directory(path) ? LoadGroundTruth(path, IoOptions(), &dataset) : ReadTrajectoryFile(path);
+    if (dataset && fs::exists(path / "correspondences.txt")) correspondence_file = path / "correspondences.txt";
   } else {
     gt = TrajectoryArg(ground_truth, ground_truth_timestamps, "ground_truth");
   }
   const Trajectory est = TrajectoryArg(estimate, timestamps, "estimate");
   EvaluationResult r;
+  std::optional<CorrespondenceResult> corr;
   {
     py::gil_scoped_release release;
     r = f2c::Evaluate(est, gt, options);
+    if (!correspondence_file.empty()) {
+      // The authors' metric on the folder's ground-truth correspondences, as evaluate gives it.
+      std::vector<double> frame_timestamps;
+      for (const RgbdFrame& f : dataset->frames) frame_timestamps.push_back(f.timestamp);
+      corr = CorrespondenceError(PosesAtFrames(est, frame_timestamps, max_time_difference),
+                                 ReadCorrespondences(correspondence_file), correspondence_file.string());
+    }
   }
-  return JsonToPython(ToJson(r));
+  nlohmann::json j = ToJson(r);
+  if (corr) {
+    j["correspondences"] = ToJson(*corr);
+    j["correspondences"]["file"] = correspondence_file.string();
+  }
+  return JsonToPython(j);
+}
+
+// The frames of a dataset fused at the given poses (fuse's TSDF and marching cubes).
+py::dict Fuse(const py::object& path, const py::object& poses, const py::object& timestamps, const py::object& out,
+              const py::kwargs& kwargs) {
+  const fs::path input = PathArg(path, "path", true);
+  IoOptions io;
+  FusionOptions fusion;
+  for (const auto& [key, value] : kwargs) {
+    std::string flag = key.cast<std::string>();
+    for (char& c : flag) c = c == '_' ? '-' : c;
+    if (value.is_none()) ThrowInputError("--" + flag, "must not be None");
+    const FieldValue v = ToFieldValue(flag, value);
+    if (!SetFieldByFlag(io, flag, v) && !SetFieldByFlag(fusion, flag, v)) {
+      ThrowInputError(key.cast<std::string>(),
+                      "unknown option (fuse's options, with '_' for '-': fine2coarse fuse --help)");
+    }
+  }
+  io.Check();
+  fusion.Check();
+  const RgbdSequence sequence = ReadSequence(input, io);
+  RequireIntrinsics(sequence);
+  const Trajectory trajectory = TrajectoryArg(poses, timestamps, "poses");
+  std::vector<std::optional<Rigid3d>> at;
+  if (trajectory.has_timestamps) {
+    at = PosesForFrames(sequence, trajectory, io.max_time_difference, "poses");
+  } else {
+    if (trajectory.size() != sequence.frames.size()) {
+      ThrowInputError("poses", fmt::format("{} poses for {} frames (give timestamps= to place them by time)",
+                                           trajectory.size(), sequence.frames.size()));
+    }
+    for (const Rigid3d& p : trajectory.world_from_camera) at.emplace_back(p);
+  }
+  FusionResult result;
+  {
+    py::gil_scoped_release release;
+    result = FuseTsdf(sequence, at, fusion, true);
+  }
+  if (!out.is_none()) WritePly(PathArg(out, "out", false), result.mesh);
+  return MeshDict(result.mesh);
 }
 
 py::array_t<double> Simulate(const std::string& scene, int frames, uint64_t seed, const py::object& out,
@@ -573,7 +629,10 @@ PYBIND11_MODULE(fine2coarse, m) {
           "stats", [](const Result& r) { return JsonToPython(r.Stats()); },
           "the run's record, as the command line's run.json holds it (a dict)")
       .def_property_readonly(
-          "mesh", [](const Result& r) -> py::object { return r.result.fusion ? py::object(Mesh(r)) : py::none(); },
+          "mesh",
+          [](const Result& r) -> py::object {
+            return r.result.fusion ? py::object(MeshDict(r.result.fusion->mesh)) : py::none();
+          },
           "with mesh=True: a dict of vertices (V x 3 float64), triangles (T x 3 int32), colors (V x 3 uint8) and "
           "normals (V x 3 float64); else None")
       .def(
@@ -683,6 +742,13 @@ estimate: a trajectory file (TUM, .log, .conf) or an N x 4 x 4 array of camera-t
 ground truth, or an array (with ground_truth_timestamps=). Poses are associated by time stamp
 within max_time_difference seconds. Returns a dict (ate_m, rpe_per_frame, rpe_per_second,
 rotation_drift_deg, ...).)");
+
+  m.def("fuse", &Fuse, py::arg("path"), py::arg("poses"), py::kw_only(), py::arg("timestamps") = py::none(),
+        py::arg("out") = py::none(),
+        R"(Fuses a dataset's frames at the given poses into a mesh, as `fine2coarse fuse` does: poses an N x 4 x 4
+array of camera-to-world poses (one per frame, or placed by timestamps=) or a trajectory file;
+options voxel_size=, fuse_every=, intrinsics=, first=, last=, every=, ... Returns the mesh as
+a dict of arrays (vertices, triangles, colors, normals); out=PATH also writes it as PLY.)");
 
   m.def("simulate", &Simulate, py::arg("scene"), py::arg("frames"), py::arg("seed"), py::arg("out"), py::kw_only(),
         py::arg("correspondences") = 400,

@@ -109,6 +109,33 @@ def test_evaluate_equals_the_command_line(scan, registered, tmp_path):
     assert from_arrays["ate_m"]["rmse"] == pytest.approx(expected["ate_m"]["rmse"], abs=1e-8)
 
 
+def test_evaluate_on_a_folder_adds_the_correspondence_error(scan, registered, tmp_path):
+    stamps, _, _ = read_tum(scan[0] / "groundtruth.txt")
+    truth = fine2coarse.evaluate(scan[1], scan[0], timestamps=stamps)
+    assert truth["correspondences"]["distance_m"]["count"] > 0
+    assert truth["correspondences"]["distance_m"]["rmse"] < 1e-3  # the sensor's exact depth at the truth
+    registered.save(tmp_path, report=False)
+    expected = json.loads(cli("evaluate", "--json", "--estimate", tmp_path / "trajectory.txt", "--ground-truth",
+                              scan[0]))
+    got = fine2coarse.evaluate(tmp_path / "trajectory.txt", scan[0])
+    assert got["correspondences"] == expected["correspondences"]
+
+
+def test_fuse_from_arrays_or_a_file(scan, tmp_path):
+    path, truth = scan
+    from_array = fine2coarse.fuse(path, truth, voxel_size=0.05, out=tmp_path / "mesh.ply")
+    from_file = fine2coarse.fuse(path, path / "groundtruth.txt", voxel_size=0.05)
+    assert from_array["vertices"].shape[0] > 100
+    # The file's poses are rounded to 9 decimals: the same surface, vertex for vertex nearly.
+    assert from_array["vertices"].shape == from_file["vertices"].shape
+    np.testing.assert_allclose(from_array["vertices"], from_file["vertices"], atol=1e-5)
+    assert (tmp_path / "mesh.ply").stat().st_size > 1000
+    with pytest.raises(fine2coarse.InputError, match="poses: 29 poses for 30 frames"):
+        fine2coarse.fuse(path, truth[:29])
+    with pytest.raises(fine2coarse.InputError, match="--voxel-size"):
+        fine2coarse.fuse(path, truth, voxel_size=-1.0)
+
+
 def test_mesh_as_arrays(scan):
     r = fine2coarse.register(scan[0], window_frames=4, features=False, mesh=True, voxel_size=0.05)
     m = r.mesh

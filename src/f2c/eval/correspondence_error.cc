@@ -87,4 +87,13 @@ CorrespondenceResult CorrespondenceError(const std::vector<std::optional<Rigid3d
   return result;
 }
 
+nlohmann::json ToJson(const CorrespondenceResult& r) {
+  nlohmann::json by_gap = nlohmann::json::array();
+  for (const GapBin& b : r.by_gap) {
+    by_gap.push_back(
+        {{"gap_from", b.gap_lo}, {"gap_to", b.gap_hi}, {"count", b.count}, {"mean_m", b.mean}, {"median_m", b.median}});
+  }
+  return {{"distance_m", ToJson(r.distance)}, {"by_frame_gap", by_gap}, {"skipped", r.skipped}};
+}
+
 }  // namespace f2c

@@ -5,6 +5,7 @@
 // metres. It needs no ground-truth trajectory, only point pairs, and it is insensitive to
 // the global frame of the estimate: it measures exactly what a bent or doubled wall costs.
 
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -41,6 +42,10 @@ struct CorrespondenceResult {
 // `evaluate --last 2000` measures a prefix against a whole scan's correspondences.
 std::vector<Correspondence> SelectFrames(const std::vector<Correspondence>& correspondences, int first, int last,
                                          int every);
+
+// The result as `evaluate --json` prints it under "correspondences" (distance_m, by_frame_gap,
+// skipped), for the CLI and the Python module alike.
+nlohmann::json ToJson(const CorrespondenceResult& result);
 
 // InputError naming `source` when a correspondence refers to a frame beyond `poses`.
 CorrespondenceResult CorrespondenceError(const std::vector<std::optional<Rigid3d>>& world_from_frame,
