@@ -23,6 +23,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -267,6 +268,12 @@ Result RegisterSequence(RgbdSequence sequence, RegisterCall call, const py::obje
     call.options.initial_name = call.initial_trajectory->string();
   }
   {
+    // quiet (the default here): the stages' log lines too, as register -q; restored after.
+    struct LogLevel {
+      spdlog::level::level_enum saved = spdlog::get_level();
+      ~LogLevel() { spdlog::set_level(saved); }
+    } log_level;
+    if (call.options.quiet) spdlog::set_level(spdlog::level::warn);
     py::gil_scoped_release release;
     r.result = Register(std::move(sequence), call.options);
   }

@@ -167,6 +167,18 @@ def test_progress_reaches_every_stage_and_the_gil_is_released(scan):
     assert ticks[0] > 50  # the other thread ran while register worked
 
 
+def test_quiet_by_default(tmp_path, capfd):
+    fine2coarse.simulate("two-rooms", 5, 0, tmp_path / "short", correspondences=0)
+    capfd.readouterr()
+    fine2coarse.register(tmp_path / "short", stop_after="odometry")
+    out, err = capfd.readouterr()
+    assert out == "" and err == ""
+    # quiet=False logs as the command line does (and a quiet call before left the log level as it was).
+    fine2coarse.register(tmp_path / "short", stop_after="odometry", quiet=False)
+    out, err = capfd.readouterr()
+    assert "odometry: 4 frames aligned" in out + err
+
+
 def test_an_exception_in_the_progress_callback_reaches_the_caller(scan):
     def fail(stage, done, total):
         raise RuntimeError("stop here")
