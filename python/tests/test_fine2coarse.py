@@ -5,6 +5,7 @@ import gc
 import json
 import os
 import subprocess
+import sys
 import threading
 import time
 
@@ -291,6 +292,35 @@ def test_bad_calls(scan, tmp_path):
     assert fine2coarse.evaluate(wide[:, :, ::2], scan[0], timestamps=stamps) == expected
     assert fine2coarse.evaluate(scan[1].astype(np.float32), scan[0], timestamps=stamps)["ate_m"]["rmse"] < 1e-6
     assert expected["ate_m"]["rmse"] < 1e-9  # the truth against itself
+
+
+def test_repeated_calls_leave_no_references_behind(scan, registered):
+    """Under any build: the arguments' reference counts and the number of live Python objects
+    do not grow over 100 calls of each entry point (bad calls included)."""
+    truth = scan[0] / "groundtruth.txt"
+    poses, stamps = registered.poses, registered.timestamps
+
+    def work():
+        for _ in range(100):
+            fine2coarse.evaluate(poses, truth, timestamps=stamps)
+            _ = registered.poses, registered.stats, registered.odometry, registered.frame_ids
+            for bad in ({"colour": 1}, {"window_frames": "x"}):
+                try:
+                    fine2coarse.register(scan[0], **bad)
+                except fine2coarse.InputError:
+                    pass
+            try:
+                fine2coarse.evaluate(poses[:, :3, :3], truth)
+            except fine2coarse.InputError:
+                pass
+        gc.collect()
+
+    work()
+    refs = (sys.getrefcount(poses), sys.getrefcount(stamps), sys.getrefcount(registered))
+    objects = len(gc.get_objects())
+    work()
+    assert (sys.getrefcount(poses), sys.getrefcount(stamps), sys.getrefcount(registered)) == refs
+    assert len(gc.get_objects()) - objects < 50
 
 
 def rss_kib():
