@@ -164,7 +164,8 @@ TEST(Cli, RegisterRefinesAndKeepsT0) {
 // the trajectory and by the ground-truth correspondences, and its self-check agrees.
 TEST(Cli, RegisterRefinesASimulatedObjectScan) {
   const fs::path dir = testing::FreshTempDir("cli_object");
-  ASSERT_EQ(RunCli("simulate --scene object --frames 100 --seed 2 -q -o " + (dir / "scan").string()).code, 0);
+  // 70 frames (measured: ATE 0.0076 -> 0.0038 m, correspondence RMSE 0.0078 -> 0.0046 m).
+  ASSERT_EQ(RunCli("simulate --scene object --frames 70 --seed 2 -q -o " + (dir / "scan").string()).code, 0);
   const Result r = RunCli("register " + (dir / "scan").string() + " -q --no-mesh -o " + (dir / "out").string());
   ASSERT_EQ(r.code, 0) << r.output;
   // The self-check's record: every iteration's, the run's (which kept the result), the report's line.

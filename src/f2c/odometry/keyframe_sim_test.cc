@@ -23,7 +23,7 @@ TEST(KeyframeOdometry, OnASimulated30HzWalkIsNoWorseThanHalfTheFramesAndBetterTh
   sim::SimulateOptions sim;
   sim.scene = "apartment";
   sim.seed = 0;
-  sim.walk.frames = 100;  // 3.3 s, about 3 m
+  sim.walk.frames = 60;  // 2 s, about 2 m
   sim.correspondences = 0;
   sim::Simulate(dir, sim, true);
   IoOptions io;
@@ -61,7 +61,7 @@ TEST(KeyframeOdometry, TheRayAwareRefitMakesEachFramesMotionMorePrecise) {
   sim::SimulateOptions sim;
   sim.scene = "two-rooms";
   sim.seed = 1;
-  sim.walk.frames = 100;
+  sim.walk.frames = 60;
   sim.correspondences = 0;
   sim::Simulate(dir, sim, true);
   const RgbdSequence seq = ReadSequence(dir, IoOptions());
