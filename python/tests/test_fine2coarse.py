@@ -16,6 +16,7 @@ import fine2coarse
 
 CLI = os.environ.get("F2C_CLI", "fine2coarse")
 SHARED = os.environ.get("F2C_SHARED_DATA_DIR", "")
+N = 20  # frames of the simulated scan
 
 
 # Under the sanitized build ctest preloads AddressSanitizer's runtime for Python; the command
@@ -30,9 +31,9 @@ def cli(*args):
 
 @pytest.fixture(scope="module")
 def scan(tmp_path_factory):
-    """A 30-frame two-room scan with exact truth, as `fine2coarse simulate` writes it."""
+    """An N-frame two-room scan with exact truth, as `fine2coarse simulate` writes it."""
     path = tmp_path_factory.mktemp("scan") / "two-rooms"
-    truth = fine2coarse.simulate("two-rooms", 30, 0, path, correspondences=50)
+    truth = fine2coarse.simulate("two-rooms", N, 0, path, correspondences=50)
     return path, truth
 
 
@@ -55,7 +56,7 @@ def rotation_from_quaternion(q):
 
 def test_simulate_returns_the_truth_it_writes(scan):
     path, truth = scan
-    assert truth.shape == (30, 4, 4)
+    assert truth.shape == (N, 4, 4)
     _, t, q = read_tum(path / "groundtruth.txt")
     np.testing.assert_allclose(truth[:, :3, 3], t, atol=1e-9)
 
@@ -64,13 +65,13 @@ def test_register_equals_the_command_line(scan, registered, tmp_path):
     cli("register", scan[0], "-o", tmp_path, "-q", "--no-mesh", "--no-report", "--no-cache", "--window-frames", 4)
     stamps, t, q = read_tum(tmp_path / "trajectory.txt")
     r = registered
-    assert r.poses.shape == (30, 4, 4) and r.poses.dtype == np.float64
+    assert r.poses.shape == (N, 4, 4) and r.poses.dtype == np.float64
     np.testing.assert_allclose(r.timestamps, stamps, atol=1e-6)
     # The file holds 9 decimals: equal to its rounding.
     np.testing.assert_allclose(r.poses[:, :3, 3], t, atol=1e-9)
     for k in range(len(q)):
         np.testing.assert_allclose(r.poses[k, :3, :3], rotation_from_quaternion(q[k]), atol=4e-9)
-    np.testing.assert_array_equal(r.poses[:, 3, :], np.tile([0, 0, 0, 1], (30, 1)))
+    np.testing.assert_array_equal(r.poses[:, 3, :], np.tile([0, 0, 0, 1], (N, 1)))
     # And what save() writes is the command line's file, byte for byte.
     names = r.save(tmp_path / "saved", report=False)
     assert "trajectory.txt" in names
@@ -79,16 +80,16 @@ def test_register_equals_the_command_line(scan, registered, tmp_path):
 
 def test_the_result_describes_the_run(registered):
     r = registered
-    assert r.t0.shape == (30, 4, 4)
-    assert len(r.frame_ids) == 30 and all(isinstance(i, str) for i in r.frame_ids)
-    assert len(r.odometry) == 29
+    assert r.t0.shape == (N, 4, 4)
+    assert len(r.frame_ids) == N and all(isinstance(i, str) for i in r.frame_ids)
+    assert len(r.odometry) == N - 1
     assert {"frame", "reference", "method", "inliers", "fitness"} <= set(r.odometry[0])
     assert r.odometry[0]["method"] in ("SIFT", "track", "ICP", "motion prior", "sift", "icp")
     stats = r.stats
-    assert stats["frames"] == 30
+    assert stats["frames"] == N
     assert stats["stages"]["refine"]["iterations"]
     assert r.mesh is None  # not asked for
-    assert "30 frames, refined" in repr(r)
+    assert f"{N} frames, refined" in repr(r)
 
 
 def test_refined_poses_are_better_than_t0(scan, registered):
@@ -131,8 +132,8 @@ def test_fuse_from_arrays_or_a_file(scan, tmp_path):
     assert from_array["vertices"].shape == from_file["vertices"].shape
     np.testing.assert_allclose(from_array["vertices"], from_file["vertices"], atol=1e-5)
     assert (tmp_path / "mesh.ply").stat().st_size > 1000
-    with pytest.raises(fine2coarse.InputError, match="poses: 29 poses for 30 frames"):
-        fine2coarse.fuse(path, truth[:29])
+    with pytest.raises(fine2coarse.InputError, match=f"poses: {N - 1} poses for {N} frames"):
+        fine2coarse.fuse(path, truth[:-1])
     with pytest.raises(fine2coarse.InputError, match="--voxel-size"):
         fine2coarse.fuse(path, truth, voxel_size=-1.0)
 
@@ -190,7 +191,7 @@ def test_an_exception_in_the_progress_callback_reaches_the_caller(scan):
 
 def test_read_sequence_gives_the_frames_and_truth(scan):
     seq = fine2coarse.read_sequence(scan[0])
-    assert len(seq) == 30 and seq.layout == "tum"
+    assert len(seq) == N and seq.layout == "tum"
     color, depth = seq[0]
     assert color.shape == (480, 640, 3) and color.dtype == np.uint8
     assert depth.shape == (480, 640) and depth.dtype == np.float32
@@ -198,7 +199,7 @@ def test_read_sequence_gives_the_frames_and_truth(scan):
     np.testing.assert_allclose(seq.ground_truth, scan[1], atol=4e-9)  # the file's 9 decimals
     assert seq.intrinsics["fx"] == 525.0
     with pytest.raises(IndexError):
-        seq[30]
+        seq[N]
     assert seq[-1][1].shape == (480, 640)
 
 
@@ -213,7 +214,7 @@ def test_register_frames_equals_register(scan, registered):
     mm = [np.round(d * 1000).astype(np.uint16) for _, d in frames]
     r_mm = fine2coarse.register_frames(np.stack([c for c, _ in frames]), mm, k, timestamps=seq.timestamps,
                                        window_frames=4, stop_after="odometry")
-    assert r_mm.poses.shape == (30, 4, 4)
+    assert r_mm.poses.shape == (N, 4, 4)
 
 
 def test_register_frames_refuses_what_it_cannot_read(scan):
@@ -274,19 +275,19 @@ def test_bad_calls(scan, tmp_path):
         fine2coarse.evaluate(np.eye(3), scan[0])
     with pytest.raises(fine2coarse.InputError, match="estimate: must be an array of N x 4 x 4 numbers"):
         fine2coarse.evaluate([["a"]], scan[0])
-    poses = np.tile(np.eye(4), (30, 1, 1))
+    poses = np.tile(np.eye(4), (N, 1, 1))
     poses[3, 0, 3] = np.nan
     with pytest.raises(fine2coarse.InputError, match="estimate:4"):
         fine2coarse.evaluate(poses, scan[0])
-    with pytest.raises(fine2coarse.InputError, match="estimate: 2 time stamps for 30 poses"):
-        fine2coarse.evaluate(np.tile(np.eye(4), (30, 1, 1)), scan[0], timestamps=[0.0, 1.0])
+    with pytest.raises(fine2coarse.InputError, match=f"estimate: 2 time stamps for {N} poses"):
+        fine2coarse.evaluate(np.tile(np.eye(4), (N, 1, 1)), scan[0], timestamps=[0.0, 1.0])
     with pytest.raises(fine2coarse.InputError, match="--scene"):
         fine2coarse.simulate("castle", 10, 0, tmp_path / "castle")
     with pytest.raises(fine2coarse.InputError, match="--max-time-difference"):
-        fine2coarse.evaluate(np.tile(np.eye(4), (30, 1, 1)), scan[0], max_time_difference=-1)
+        fine2coarse.evaluate(np.tile(np.eye(4), (N, 1, 1)), scan[0], max_time_difference=-1)
     # A non-contiguous array, or one of another dtype, is read as it is.
     stamps, _, _ = read_tum(scan[0] / "groundtruth.txt")
-    wide = np.zeros((30, 4, 8))
+    wide = np.zeros((N, 4, 8))
     wide[:, :, ::2] = scan[1]
     expected = fine2coarse.evaluate(scan[1], scan[0], timestamps=stamps)
     assert fine2coarse.evaluate(wide[:, :, ::2], scan[0], timestamps=stamps) == expected
@@ -339,7 +340,7 @@ def test_repeated_calls_do_not_leak(scan, registered):
     def work():
         for _ in range(100):
             fine2coarse.evaluate(registered.poses, truth, timestamps=registered.timestamps)
-            assert registered.poses.shape == (30, 4, 4)
+            assert registered.poses.shape == (N, 4, 4)
             _ = registered.stats
             try:
                 fine2coarse.register(scan[0], colour=1)
