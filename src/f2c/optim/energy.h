@@ -21,8 +21,8 @@ class Energy {
   Energy(const Constraints& constraints, const SolverOptions& options, const PoseVector& previous, PoseVector* poses,
          PoseProblem* problem);
 
-  // Every term, in the order their blocks enter the problem (which fixes the order of the
-  // normal equations' sums, so the result does not change with how the terms are listed).
+  // Every term, in the order their blocks enter the problem. The order fixes the order of the
+  // normal equations' sums: listing the terms otherwise changes the result's last bits.
   void AddAll(int first_free_pose) {
     AddCorrespondences();
     AddLocal();
