@@ -26,12 +26,14 @@
 #include "apps/commands.h"
 #include "f2c/optim/blas_threads.h"
 #include "f2c/util/error.h"
+#include "f2c/util/temp_files.h"
 
 int main(int argc, char** argv) {
   // Logs go to stderr, so stdout carries only results (tables, JSON).
   spdlog::set_default_logger(spdlog::stderr_color_mt("fine2coarse"));
   spdlog::set_pattern("[%H:%M:%S] %v");
-  f2c::UseOneBlasThread();  // before any stage: OpenBLAS's own threads compete with ours
+  f2c::UseOneBlasThread();             // before any stage: OpenBLAS's own threads compete with ours
+  f2c::InstallTemporaryFileCleanup();  // Ctrl-C, kill or a closed pipe leave no *.tmp.PID file
   CLI::App app{"fine2coarse: fine-to-coarse global registration of RGB-D scans"};
   app.require_subcommand(1);
   app.set_version_flag("--version", F2C_VERSION);

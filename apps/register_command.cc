@@ -125,7 +125,18 @@ Subcommand AddRegisterCommand(CLI::App* app) {
 
   return {cmd, [app, cmd, args, flags, write_config] {
             ApplyPreset(flags->preset, &args->options, [cmd](const std::string& flag) { return cmd->count(flag) > 0; });
-            if (!write_config->empty()) {
+            RegisterOptions& options = args->options;
+            options.extract_features = !flags->no_features;
+            options.refine_poses = flags->stop_after == "refine";
+            options.fuse_mesh = !flags->no_mesh && flags->stop_after != "odometry";
+            options.keep_iterations = args->save_iterations;
+            args->write_report = !flags->no_report;
+            args->use_cache = !flags->no_cache;
+            // Every stage's options, once, before the input is read or minutes of odometry run.
+            options.CheckStart(!args->initial_trajectory.empty());
+            args->io.Check();
+            options.Check();
+            if (!write_config->empty()) {  // only once the options are known to be good
               // Every option with its value (defaults too), so the file reproduces the run; but the
               // preset's own values are left to the preset (written, they would count as given, and
               // the preset would not set them when the file is read).
@@ -144,17 +155,6 @@ Subcommand AddRegisterCommand(CLI::App* app) {
               WriteFileAtomic(*write_config, text);
               spdlog::info("options written to {}", *write_config);
             }
-            RegisterOptions& options = args->options;
-            options.extract_features = !flags->no_features;
-            options.refine_poses = flags->stop_after == "refine";
-            options.fuse_mesh = !flags->no_mesh && flags->stop_after != "odometry";
-            options.keep_iterations = args->save_iterations;
-            args->write_report = !flags->no_report;
-            args->use_cache = !flags->no_cache;
-            // Every stage's options, once, before the input is read or minutes of odometry run.
-            options.CheckStart(!args->initial_trajectory.empty());
-            args->io.Check();
-            options.Check();
             if (options.quiet) spdlog::set_level(spdlog::level::warn);
             return RunRegister(*args);
           }};

@@ -5,7 +5,14 @@
 
 #include <fmt/format.h>
 
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <thread>
+#include <vector>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -228,6 +235,9 @@ TEST(Cli, FailedWritesToStdoutAndAbsurdOptionsAreErrors) {
 }
 
 // A damaged entry in the pair cache is recomputed, with one warning, to the same poses.
+// A cached pair moved by 5 cm (a hand edit, or a bit flip in a digit) fails its checksum: it
+// is recomputed with one warning naming the file, and the poses are those of the first run.
+// Without the checksum the moved pair was trusted and moved the trajectory.
 TEST(Cli, ADamagedCachedPairIsRecomputed) {
   const fs::path dir = SyntheticTum("cli_cache_damage", 4);
   const fs::path out = testing::FreshTempDir("cli_cache_damage_out");
@@ -235,13 +245,15 @@ TEST(Cli, ADamagedCachedPairIsRecomputed) {
       "register " + dir.string() + " --intrinsics primesense -q --stop-after odometry -o " + out.string();
   ASSERT_EQ(RunCli(cmd).code, 0);
   const std::string before = ReadFileToString(out / "trajectory.txt");
-  nlohmann::json cache = nlohmann::json::parse(ReadFileToString(out / "cache" / "odometry_pairs.json"));
+  const fs::path file = out / "cache" / "odometry_pairs.json";
+  nlohmann::json cache = nlohmann::json::parse(ReadFileToString(file));
   ASSERT_FALSE(cache["pairs"].empty());
-  cache["pairs"].begin().value()["prev_from_curr"][0] = 2.0;  // scaled: not a rotation
-  WriteFileAtomic(out / "cache" / "odometry_pairs.json", cache.dump());
+  nlohmann::json& x = cache["pairs"].begin().value()["pair"]["prev_from_curr"][3];
+  x = x.get<double>() + 0.05;
+  WriteFileAtomic(file, cache.dump());
   const Result r = RunCli(cmd);
   ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_NE(r.output.find("a cached pair is damaged (prev_from_curr is not a rotation); recomputing it"),
+  EXPECT_NE(r.output.find(file.string() + ": 1 cached pair fails its checksum (edited or damaged); recomputing"),
             std::string::npos)
       << r.output;
   EXPECT_EQ(ReadFileToString(out / "trajectory.txt"), before);
@@ -325,6 +337,86 @@ TEST(Cli, DamagedCopiesOfRealDataGiveTheDocumentedErrors) {
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(r.output, "error: " + (dir / "groundtruth.txt").string() +
                           ":5: 'nan' is not a finite number; expected 'timestamp tx ty tz qx qy qz qw'\n");
+}
+
+// Names under `dir` (recursively) that are a run's temporary files.
+std::vector<std::string> Temporaries(const fs::path& dir) {
+  std::vector<std::string> found;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec)) {
+    if (it->path().filename().string().find(".tmp.") != std::string::npos) found.push_back(it->path().string());
+  }
+  return found;
+}
+
+// Ctrl-C or kill while register streams its feature cache: the process ends by that signal,
+// its temporary files are gone, and no trajectory.txt is left without the rest. A run killed
+// where no handler runs (SIGKILL) leaves its temporary file; the next run removes it.
+TEST(Cli, AStoppedRunLeavesNoTemporaryFile) {
+  const fs::path scan = SyntheticTum("cli_signal_scan", 40);
+  const fs::path base = testing::FreshTempDir("cli_signal");
+  for (int signal_number : {SIGINT, SIGTERM, SIGKILL}) {
+    const fs::path out = base / std::to_string(signal_number);
+    const std::vector<std::string> args = {F2C_CLI_PATH, "register", scan.string(),  "-o",
+                                           out.string(), "-q",       "--intrinsics", "525,525,319.5,239.5"};
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      std::vector<char*> argv;
+      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      ::freopen("/dev/null", "w", stderr);
+      ::execv(argv[0], argv.data());
+      ::_exit(127);
+    }
+    // Stopped as soon as its feature cache is being written (the run's first seconds).
+    bool seen = false;
+    for (int wait_ms = 0; wait_ms < 120000 && !seen; wait_ms += 5) {
+      seen = !Temporaries(out).empty();
+      if (!seen) ::usleep(5000);
+    }
+    ::kill(child, signal_number);
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    ASSERT_TRUE(seen) << "no temporary file appeared under " << out;
+    ASSERT_TRUE(WIFSIGNALED(status)) << "the run finished before the signal: status " << status;
+    EXPECT_EQ(WTERMSIG(status), signal_number);
+    EXPECT_FALSE(fs::exists(out / "trajectory.txt"));
+    if (signal_number == SIGKILL) {
+      EXPECT_FALSE(Temporaries(out).empty());  // no handler ran
+      const Result again = RunCli("register " + scan.string() + " -o " + out.string() +
+                                  " -q --no-report --no-mesh --intrinsics 525,525,319.5,239.5");
+      EXPECT_EQ(again.code, 0) << again.output;
+      EXPECT_TRUE(fs::exists(out / "trajectory.txt"));
+    }
+    EXPECT_EQ(Temporaries(out), std::vector<std::string>()) << "signal " << signal_number;
+  }
+}
+
+// What is not a regular file is written through, never replaced: a FIFO given to
+// --write-config hands its reader the options, and stays a FIFO; a cache that is a FIFO is
+// an error naming it, before any work.
+TEST(Cli, FifosAreWrittenThroughAndACacheFifoIsAnError) {
+  const fs::path scan = SyntheticTum("cli_fifo_scan", 3);
+  const fs::path dir = testing::FreshTempDir("cli_fifo");
+  const fs::path fifo = dir / "config.fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string config;
+  std::thread reader([&] { config = ReadFileToString(fifo); });
+  const Result written = RunCli("register " + scan.string() + " -o " + (dir / "out").string() +
+                                " --intrinsics 525,525,319.5,239.5 --write-config " + fifo.string());
+  reader.join();
+  EXPECT_EQ(written.code, 0) << written.output;
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_NE(config.find("register.voxel-size="), std::string::npos) << config;
+  fs::create_directories(dir / "cached" / "cache");
+  ASSERT_EQ(::mkfifo((dir / "cached" / "cache" / "features.f2cf").c_str(), 0600), 0);
+  const Result cached =
+      RunCli("register " + scan.string() + " -o " + (dir / "cached").string() + " -q --intrinsics 525,525,319.5,239.5");
+  EXPECT_EQ(cached.code, 1);
+  EXPECT_EQ(cached.output, "error: " + (dir / "cached" / "cache" / "features.f2cf").string() +
+                               ": cache is not a regular file (a device, FIFO or socket)\n");
 }
 
 }  // namespace

@@ -19,13 +19,16 @@
 #include "f2c/util/fields_json.h"
 #include "f2c/util/file.h"
 #include "f2c/util/progress.h"
+#include "f2c/util/temp_files.h"
 #include "f2c/util/timer.h"
 
 namespace f2c {
 namespace {
 
 constexpr char kMagic[8] = {'F', '2', 'C', 'F', 'E', 'A', 'T', '\0'};
-constexpr uint32_t kVersion = 2;  // 2: proxies' noise covariance
+// 2: proxies' noise covariance; 3: each entry followed by its checksum (XXH3 of its key and
+// body), so a bit flip or an edit is found, not read as features.
+constexpr uint32_t kVersion = 3;
 
 class Writer {
  public:
@@ -72,6 +75,8 @@ class Reader {
     return n;
   }
   bool AtEnd() const { return at_ == bytes_.size(); }
+  size_t at() const { return at_; }
+  std::string_view Since(size_t from) const { return bytes_.substr(from, at_ - from); }
 
  private:
   void Need(size_t n) {
@@ -160,8 +165,11 @@ void WriteFeatureCache(const std::filesystem::path& path, uint64_t context_hash,
   w.Put(context_hash);
   w.Put(static_cast<uint32_t>(entries.size()));
   for (const FeatureCacheEntry& e : entries) {
-    w.Put(e.key);
-    PutFrame(w, e.features);
+    Writer entry;
+    entry.Put(e.key);
+    PutFrame(entry, e.features);
+    w.PutBytes(entry.bytes());
+    w.Put(HashBytes(entry.bytes()));
   }
   std::filesystem::create_directories(path.parent_path().empty() ? "." : path.parent_path());
   WriteFileAtomic(path, w.bytes());
@@ -180,9 +188,13 @@ std::vector<FeatureCacheEntry> ReadFeatureCache(const std::filesystem::path& pat
   *context_hash = r.Get<uint64_t>();
   const uint32_t n = r.GetCount(8 + 2 + 4 + 4);
   std::vector<FeatureCacheEntry> entries(n);
-  for (FeatureCacheEntry& e : entries) {
+  for (uint32_t i = 0; i < n; ++i) {
+    FeatureCacheEntry& e = entries[i];
+    const size_t start = r.at();
     e.key = r.Get<uint64_t>();
     e.features = GetFrame(r, path);
+    const uint64_t sum = HashBytes(r.Since(start));
+    if (r.Get<uint64_t>() != sum) ThrowInputError(path, fmt::format("feature cache entry {} fails its checksum", i));
   }
   if (!r.AtEnd()) ThrowInputError(path, "feature cache has trailing bytes");
   return entries;
@@ -195,10 +207,9 @@ std::vector<FeatureCacheEntry> ReadFeatureCache(const std::filesystem::path& pat
 // complete, removed if the run ends early.
 class FeatureExtraction::CacheWriter {
  public:
-  CacheWriter(std::filesystem::path path, uint64_t context) : path_(std::move(path)) {
+  CacheWriter(std::filesystem::path path, uint64_t context) : path_(std::move(path)), tmp_(TemporaryName(path_)) {
     std::filesystem::create_directories(path_.parent_path().empty() ? "." : path_.parent_path());
-    tmp_ = path_.string() + ".tmp." + std::to_string(::getpid());
-    file_ = std::fopen(tmp_.c_str(), "wb");
+    file_ = std::fopen(tmp_.path().c_str(), "wb");
     if (file_ == nullptr) ThrowInputError(path_, "cannot write feature cache");
     Writer w;
     w.PutBytes(std::string(kMagic, sizeof(kMagic)));
@@ -210,13 +221,14 @@ class FeatureExtraction::CacheWriter {
   ~CacheWriter() {
     if (file_ != nullptr) {
       std::fclose(file_);
-      std::filesystem::remove(tmp_);
+      std::filesystem::remove(tmp_.path());
     }
   }
   void Append(int frame, uint64_t key, const FrameFeatures& f) {
     Writer w;
     w.Put(key);
     PutFrame(w, f);
+    w.Put(HashBytes(w.bytes()));
     std::lock_guard<std::mutex> lock(mutex_);
     waiting_[frame] = w.bytes();
     for (auto it = waiting_.begin(); it != waiting_.end() && it->first == next_; it = waiting_.erase(it), ++next_) {
@@ -232,11 +244,12 @@ class FeatureExtraction::CacheWriter {
     const bool ok = std::fflush(file_) == 0 && !std::ferror(file_);
     std::fclose(file_);
     file_ = nullptr;
-    if (!ok) {
-      std::filesystem::remove(tmp_);
+    std::error_code ec;
+    if (ok) std::filesystem::rename(tmp_.path(), path_, ec);
+    if (!ok || ec) {
+      std::filesystem::remove(tmp_.path(), ec);
       ThrowInputError(path_, "cannot write feature cache");
     }
-    std::filesystem::rename(tmp_, path_);
   }
 
  private:
@@ -245,7 +258,7 @@ class FeatureExtraction::CacheWriter {
       ThrowInputError(path_, "cannot write feature cache");
   }
   std::filesystem::path path_;
-  std::string tmp_;
+  TemporaryFileName tmp_;  // removed by a signal that stops the run
   std::FILE* file_ = nullptr;
   std::mutex mutex_;
   std::map<int, std::string> waiting_;  // entries of frames that came before their turn
@@ -255,27 +268,35 @@ class FeatureExtraction::CacheWriter {
 
 namespace {
 
-// Reads one cache entry's bytes after its key (note, proxies, features) from `in`; false at a
-// short read. `bytes` receives them unless null (then they are skipped).
-bool ReadEntryBody(std::ifstream& in, std::string* bytes) {
+// Reads one cache entry from `in` into `entry` (its key, note, proxies and features) and
+// checks the checksum that follows it. kEnd at the end of the file, kDamaged at a short read
+// (the rest of the file cannot be framed) or a checksum that does not match.
+enum class EntryRead { kOk, kEnd, kDamaged, kShort };
+EntryRead ReadEntry(std::ifstream& in, uint64_t file_size, std::string* entry) {
+  entry->clear();
   auto take = [&](size_t n) {
-    if (bytes == nullptr) {
-      in.seekg(static_cast<std::streamoff>(n), std::ios::cur);
-      return static_cast<bool>(in);
-    }
-    const size_t at = bytes->size();
-    bytes->resize(at + n);
-    return static_cast<bool>(in.read(bytes->data() + at, static_cast<std::streamsize>(n)));
+    // A damaged count must not allocate more than the file holds.
+    const auto position = static_cast<uint64_t>(std::max<std::streamoff>(in.tellg(), 0));
+    if (!in || n > file_size - std::min(position, file_size)) return false;
+    const size_t at = entry->size();
+    entry->resize(at + n);
+    return static_cast<bool>(in.read(entry->data() + at, static_cast<std::streamsize>(n)));
   };
-  auto read_count = [&](auto* value) {
-    if (!in.read(reinterpret_cast<char*>(value), sizeof(*value))) return false;
-    if (bytes) bytes->append(reinterpret_cast<const char*>(value), sizeof(*value));
+  auto count = [&](auto* value) {
+    if (!take(sizeof(*value))) return false;
+    std::memcpy(value, entry->data() + entry->size() - sizeof(*value), sizeof(*value));
     return true;
   };
+  uint64_t key = 0, sum = 0;
+  if (in.peek() == std::char_traits<char>::eof()) return EntryRead::kEnd;
+  if (!count(&key)) return EntryRead::kShort;
   uint16_t note = 0;
   uint32_t proxies = 0, features = 0;
-  return read_count(&note) && take(note) && read_count(&proxies) && take(static_cast<size_t>(proxies) * kProxyBytes) &&
-         read_count(&features) && take(static_cast<size_t>(features) * kFeatureBytes);
+  const bool framed = count(&note) && take(note) && count(&proxies) &&
+                      take(static_cast<size_t>(proxies) * kProxyBytes) && count(&features) &&
+                      take(static_cast<size_t>(features) * kFeatureBytes);
+  if (!framed || !in.read(reinterpret_cast<char*>(&sum), sizeof(sum))) return EntryRead::kShort;
+  return sum == HashBytes(*entry) ? EntryRead::kOk : EntryRead::kDamaged;
 }
 
 }  // namespace
@@ -318,10 +339,13 @@ void FeatureExtraction::ReadCache() {
   timings_.hashing = timer.Seconds();
   std::unordered_map<uint64_t, std::vector<int>> frames_of;  // frames with identical bytes share a key
   for (int i = 0; i < n; ++i) frames_of[keys_[i]].push_back(i);
-  // Pass 1: which frames the cache holds (entries' keys; their bodies skipped). The cache is
-  // streamed, never held whole: 100 KB per frame would be 1.5 GB at 15,000 frames.
+  // Pass 1: which frames the cache holds, each entry checked against its checksum. The cache
+  // is streamed, never held whole: 100 KB per frame would be 1.5 GB at 15,000 frames.
   std::vector<char> hit(n, 0);
   const std::filesystem::path& path = run_.cache_file;
+  CheckCacheFile(path);
+  std::error_code size_error;
+  const uint64_t file_size = std::filesystem::exists(path) ? std::filesystem::file_size(path, size_error) : 0;
   auto open = [&](std::ifstream& in) -> bool {
     in.open(path, std::ios::binary);
     char magic[sizeof(kMagic)];
@@ -336,21 +360,37 @@ void FeatureExtraction::ReadCache() {
     in.read(reinterpret_cast<char*>(&count), 4);
     return in && version == kVersion && context == context_;
   };
+  int damaged = 0;
+  bool cut = false;
+  std::string entry;
   if (std::filesystem::exists(path)) {
     std::ifstream in;
     if (open(in)) {
-      uint64_t key = 0;
-      while (in.read(reinterpret_cast<char*>(&key), 8)) {
-        if (!ReadEntryBody(in, nullptr)) {
-          spdlog::warn("{}: feature cache is truncated or corrupt (recomputing what it lacks)", path.string());
+      for (EntryRead read; (read = ReadEntry(in, file_size, &entry)) != EntryRead::kEnd;) {
+        if (read == EntryRead::kShort) {
+          cut = true;
           break;
         }
+        if (read == EntryRead::kDamaged) {
+          ++damaged;
+          continue;
+        }
+        uint64_t key = 0;
+        std::memcpy(&key, entry.data(), sizeof(key));
         const auto it = frames_of.find(key);
         if (it != frames_of.end()) {
           for (int i : it->second) hit[i] = 1;
         }
       }
     }
+  }
+  if (damaged > 0 || cut) {
+    spdlog::warn("{}: feature cache {}{}{} (recomputing those frames)", path.string(),
+                 damaged > 0
+                     ? fmt::format("has {} {}", damaged,
+                                   damaged == 1 ? "entry that fails its checksum" : "entries that fail their checksum")
+                     : "",
+                 damaged > 0 && cut ? " and " : "", cut ? "is cut short" : "");
   }
   const int hits = static_cast<int>(std::count(hit.begin(), hit.end(), 1));
   if (hits < n) writer_ = std::make_unique<CacheWriter>(path, context_);
@@ -359,15 +399,16 @@ void FeatureExtraction::ReadCache() {
   // written).
   std::ifstream in;
   if (!open(in)) return;
-  uint64_t key = 0;
-  std::string body;
-  while (in.read(reinterpret_cast<char*>(&key), 8)) {
-    body.clear();
-    if (!ReadEntryBody(in, &body)) break;
+  // Only entries that passed their checksum in pass 1 are delivered; the writer exists unless
+  // every frame was a hit, so whatever is delivered also reaches the new cache.
+  for (EntryRead read; (read = ReadEntry(in, file_size, &entry)) != EntryRead::kEnd && read != EntryRead::kShort;) {
+    if (read != EntryRead::kOk) continue;
+    uint64_t key = 0;
+    std::memcpy(&key, entry.data(), sizeof(key));
     const auto it = frames_of.find(key);
     if (it == frames_of.end() || state_[it->second.front()] != kMissing) continue;
     try {
-      Reader r(path, body);
+      Reader r(path, std::string_view(entry).substr(sizeof(key)));
       FrameFeatures f = GetFrame(r, path);
       for (size_t k = 0; k < it->second.size(); ++k) {
         const int i = it->second[k];
@@ -375,12 +416,10 @@ void FeatureExtraction::ReadCache() {
         Deliver(i, k + 1 < it->second.size() ? FrameFeatures(f) : std::move(f));
       }
     } catch (const InputError& e) {
-      spdlog::warn("{} (recomputing)", e.what());  // only a cache
-      if (!writer_) writer_ = std::make_unique<CacheWriter>(path, context_);
+      spdlog::warn("{} (recomputing)", e.what());  // a well-framed entry with a bad value: only a cache
     }
   }
   timings_.frames_cached = static_cast<int>(std::count(state_.begin(), state_.end(), kCached));
-  if (timings_.frames_cached < n && !writer_) writer_ = std::make_unique<CacheWriter>(path, context_);
   if (timings_.frames_cached > 0) {
     spdlog::info("features: {} of {} frames from cache {}", timings_.frames_cached, n, path.string());
   }

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <fstream>
 
+#include "f2c/testing/log_capture.h"
 #include "f2c/testing/synthetic_scene.h"
 #include "f2c/util/file.h"
 
@@ -92,15 +93,20 @@ TEST(FeatureCache, BadFilesAreClearErrors) {
   const std::string bytes = ReadFileToString(dir / "good.f2cf");
   WriteFileAtomic(dir / "short.f2cf", bytes.substr(0, bytes.size() - 7));
   WriteFileAtomic(dir / "other.f2cf", "P6\n640 480\n255\n");
-  std::string v3 = bytes;
-  v3[8] = 3;
-  WriteFileAtomic(dir / "v3.f2cf", v3);
+  std::string v9 = bytes;
+  v9[8] = 9;
+  WriteFileAtomic(dir / "v9.f2cf", v9);
+  std::string flipped = bytes;
+  flipped[bytes.size() - 12] ^= 0x10;  // in the last feature's pixel (the checksum follows)
+  WriteFileAtomic(dir / "flipped.f2cf", flipped);
   uint64_t context = 0;
   auto message = [&](const fs::path& p) { return testing::InputErrorMessage([&] { ReadFeatureCache(p, &context); }); };
   EXPECT_EQ(message(dir / "short.f2cf"), (dir / "short.f2cf").string() + ": feature cache is truncated or corrupt");
   EXPECT_EQ(message(dir / "other.f2cf"), (dir / "other.f2cf").string() + ": not a fine2coarse feature cache");
-  EXPECT_EQ(message(dir / "v3.f2cf"),
-            (dir / "v3.f2cf").string() + ": feature cache version 3 (this build reads version 2)");
+  EXPECT_EQ(message(dir / "v9.f2cf"),
+            (dir / "v9.f2cf").string() + ": feature cache version 9 (this build reads version 3)");
+  EXPECT_EQ(message(dir / "flipped.f2cf"),
+            (dir / "flipped.f2cf").string() + ": feature cache entry 0 fails its checksum");
 }
 
 TEST(ExtractFeatures, ReusesTheCacheFrameByFrameAndRecomputesWhatChanged) {
@@ -153,6 +159,66 @@ TEST(ExtractFeatures, ACorruptCacheIsRecomputedAndAMissingIntrinsicIsAnError) {
   EXPECT_EQ(testing::InputErrorMessage([&] { ExtractFeatures(no_k, FeatureOptions(), FeatureRun()); }),
             (dir / "scan").string() +
                 ": no intrinsics: pass --intrinsics (a preset: tum-fr1, tum-fr2, tum-fr3, primesense; or fx,fy,cx,cy)");
+}
+
+// A cache cut short by one byte, or with one bit flipped, is read up to the damage: the
+// damaged frames are recomputed (one warning naming the file), the rest reused, and the
+// cache rewritten whole. Without the checksum a flipped bit in a position was read as a
+// feature; without the care for the writer a cut cache stopped the run at an internal check.
+TEST(ExtractFeatures, ADamagedCacheEntryIsRecomputedWithOneWarning) {
+  const fs::path dir = testing::FreshTempDir("feature_set_damaged");
+  const RgbdSequence seq = WriteSequence(dir / "scan", 4);
+  FeatureRun run;
+  run.quiet = true;
+  run.cache_file = dir / "features.f2cf";
+  const FeatureSet reference = ExtractFeatures(seq, FeatureOptions(), run);
+  const std::string good = ReadFileToString(run.cache_file);
+  uint64_t context = 0;
+  const std::vector<FeatureCacheEntry> entries = ReadFeatureCache(run.cache_file, &context);
+  ASSERT_EQ(entries.size(), 4u);
+  // Entry 1 starts where a cache of entry 0 alone ends; its first feature's position follows
+  // its key, note, proxies (22 floats and a count each) and the feature's type byte.
+  WriteFeatureCache(dir / "one.f2cf", context, {entries[0]});
+  const size_t entry1 = ReadFileToString(dir / "one.f2cf").size();
+  ASSERT_FALSE(entries[1].features.features.empty());
+  const size_t position =
+      entry1 + 8 + 2 + entries[1].features.note.size() + 4 + entries[1].features.proxies.size() * (4 * 22 + 4) + 4 + 1;
+  std::string flipped = good;
+  flipped[position + 1] ^= 0x04;
+  for (const std::string& damaged : {good.substr(0, good.size() - 1), flipped}) {
+    WriteFileAtomic(run.cache_file, damaged);
+    testing::LogCapture log;
+    FeatureTimings t;
+    const FeatureSet set = ExtractFeatures(seq, FeatureOptions(), run, &t);
+    EXPECT_EQ(t.frames_cached, 3);
+    EXPECT_EQ(t.frames_computed, 1);
+    for (int i = 0; i < 4; ++i) ExpectSameFeatures(set.frames[i], reference.frames[i]);
+    const std::vector<std::string> lines = log.Lines();
+    ASSERT_FALSE(lines.empty());
+    EXPECT_EQ(lines[0], run.cache_file.string() + ": feature cache " +
+                            (damaged.size() < good.size() ? "is cut short" : "has 1 entry that fails its checksum") +
+                            " (recomputing those frames)");
+    EXPECT_EQ(ReadFileToString(run.cache_file), good);
+  }
+}
+
+// A cache that is not a regular file is an error naming it, never read (a device could be
+// read for ever) nor replaced.
+TEST(ExtractFeatures, ACacheThatIsNotARegularFileIsAnError) {
+  const fs::path dir = testing::FreshTempDir("feature_set_cache_kind");
+  const RgbdSequence seq = WriteSequence(dir / "scan", 2);
+  FeatureRun run;
+  run.quiet = true;
+  run.cache_file = dir / "folder.f2cf";
+  fs::create_directories(run.cache_file);
+  EXPECT_EQ(testing::InputErrorMessage([&] { ExtractFeatures(seq, FeatureOptions(), run); }),
+            run.cache_file.string() + ": cache is a folder, not a file");
+  run.cache_file = dir / "zero.f2cf";
+  fs::create_symlink("/dev/zero", run.cache_file);
+  EXPECT_EQ(testing::InputErrorMessage([&] { ExtractFeatures(seq, FeatureOptions(), run); }),
+            run.cache_file.string() + ": cache is not a regular file (a device, FIFO or socket)");
+  EXPECT_TRUE(fs::is_symlink(run.cache_file));
+  EXPECT_TRUE(fs::is_character_file("/dev/zero"));
 }
 
 // Streaming: each frame reaches the receiver once, nothing is kept, and the cache written on

@@ -37,8 +37,16 @@ void CameraIntrinsics::Validate(const std::string& source) const {
   if (!(std::isfinite(fx) && std::isfinite(fy) && fx > 0 && fy > 0)) {
     ThrowInputError(source, fmt::format("focal length must be positive (fx={}, fy={})", fx, fy));
   }
-  if (!(std::isfinite(cx) && std::isfinite(cy) && cx >= 0 && cy >= 0 && (!size_known || (cx < width && cy < height)))) {
-    if (!size_known) ThrowInputError(source, fmt::format("principal point ({}, {}) must be >= 0", cx, cy));
+  if (fx < kMinFocalPixels || fy < kMinFocalPixels || fx > kMaxFocalPixels || fy > kMaxFocalPixels) {
+    ThrowInputError(source, fmt::format("focal length must be in [{:g}, {:g}] pixels (fx={}, fy={})", kMinFocalPixels,
+                                        kMaxFocalPixels, fx, fy));
+  }
+  if (!(std::isfinite(cx) && std::isfinite(cy) && cx >= 0 && cy >= 0 && cx < kMaxImageSide && cy < kMaxImageSide &&
+        (!size_known || (cx < width && cy < height)))) {
+    if (!size_known) {
+      ThrowInputError(source,
+                      fmt::format("principal point ({}, {}) must be in [0, {:g}) pixels", cx, cy, kMaxImageSide));
+    }
     ThrowInputError(source,
                     fmt::format("principal point ({}, {}) lies outside the {}x{} image", cx, cy, width, height));
   }

@@ -18,6 +18,14 @@
 
 namespace f2c {
 
+// The plausible range of a depth camera's focal length, in pixels: 10 px is a field of view of
+// 176 degrees across a 640-pixel image, 100,000 px one of 0.4 degrees. Outside it the values
+// are a unit mistake (metres, or a matrix entry in the wrong place), and a run would go on
+// and find nothing anywhere.
+constexpr double kMinFocalPixels = 10;
+constexpr double kMaxFocalPixels = 100000;
+constexpr double kMaxImageSide = 100000;  // pixels: no depth camera's image is this wide
+
 struct CameraIntrinsics {
   double fx = 0, fy = 0;  // focal lengths (pixels)
   double cx = 0, cy = 0;  // principal point (pixels; pixel centres at integer coordinates)
@@ -41,9 +49,9 @@ struct CameraIntrinsics {
   Eigen::Vector3d Unproject(double u, double v, double z) const { return {(u - cx) * z / fx, (v - cy) * z / fy, z}; }
   // Pixel of a point in camera coordinates (z > 0).
   Eigen::Vector2d Project(const Eigen::Vector3d& p) const { return {fx * p.x() / p.z() + cx, fy * p.y() / p.z() + cy}; }
-  // InputError("<source>: ...") unless focal lengths are positive and finite, the principal
-  // point lies inside the image (at least non-negative while the size is unknown) and the
-  // distortion coefficients are finite.
+  // InputError("<source>: ...") unless focal lengths are in [kMinFocalPixels,
+  // kMaxFocalPixels], the principal point lies inside the image (in [0, kMaxImageSide) while
+  // the size is unknown) and the distortion coefficients are finite.
   void Validate(const std::string& source) const;
 };
 

@@ -30,6 +30,25 @@ TEST(ParseIntrinsics, ZeroFocalLengthIsAnError) {
   }
 }
 
+// Finite but implausible values are unit mistakes, refused with the range they missed:
+// fx = 1e-300 once ran to the end and found no planar region anywhere.
+TEST(ParseIntrinsics, FocalLengthsAndPrincipalPointsOutsideAPlausibleRangeAreErrors) {
+  auto message = [](const std::string& text) {
+    try {
+      ParseIntrinsics(text, "--intrinsics");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("1e-300,525,320,240"),
+            "--intrinsics: focal length must be in [10, 100000] pixels (fx=1e-300, fy=525)");
+  EXPECT_EQ(message("525,1e308,320,240"),
+            "--intrinsics: focal length must be in [10, 100000] pixels (fx=525, fy=1e+308)");
+  EXPECT_EQ(message("525,525,1e300,240"), "--intrinsics: principal point (1e+300, 240) must be in [0, 100000) pixels");
+  EXPECT_EQ(message("10,100000,0,99999"), "no error");
+}
+
 TEST(ParseIntrinsics, UnknownPreset) {
   try {
     ParseIntrinsics("kinect2", "--intrinsics");

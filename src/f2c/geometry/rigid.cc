@@ -15,6 +15,14 @@ namespace {
   ThrowInputError(path, what);
 }
 
+void CheckPosition(const Eigen::Vector3d& t, const std::filesystem::path& path, int line) {
+  const double distance = t.stableNorm();  // norm() squares: 1e155 would print as inf
+  if (distance > kMaxCoordinateMetres) {
+    Fail(path, line,
+         fmt::format("pose lies {:.3g} m from the origin (at most {:g} m)", distance, kMaxCoordinateMetres));
+  }
+}
+
 }  // namespace
 
 double RotationAngle(const Eigen::Matrix3d& rotation) {
@@ -27,6 +35,7 @@ double RotationAngle(const Eigen::Matrix3d& rotation) {
 Rigid3d RigidFromMatrixOrThrow(const Eigen::Matrix4d& matrix, const std::filesystem::path& path, int line,
                                double tolerance) {
   if (!matrix.allFinite()) Fail(path, line, "pose is not finite (NaN or infinity)");
+  CheckPosition(matrix.topRightCorner<3, 1>(), path, line);
   if ((matrix.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > tolerance) {
     Fail(path, line, "pose's bottom row is not 0 0 0 1");
   }
@@ -48,6 +57,7 @@ Rigid3d RigidFromQuaternionOrThrow(const Eigen::Vector3d& translation, const Eig
   if (!translation.allFinite() || !quaternion_xyzw.allFinite()) {
     Fail(path, line, "pose is not finite (NaN or infinity)");
   }
+  CheckPosition(translation, path, line);
   const double norm = quaternion_xyzw.norm();
   if (std::abs(norm - 1.0) > tolerance) {
     Fail(path, line, fmt::format("quaternion is not unit (norm {:.4g})", norm));

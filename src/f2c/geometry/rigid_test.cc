@@ -46,6 +46,29 @@ TEST(RigidFromMatrixOrThrow, RejectsNaN) {
   }
 }
 
+// Finite is not enough: at 1e155 m the metrics' squares overflow (ATE "inf"), and beyond
+// 1e6 m a double keeps less precision than they need.
+TEST(RigidFromMatrixOrThrow, RejectsPositionsFartherThanAMillionMetres) {
+  auto message = [](const auto& f) {
+    try {
+      f();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m(0, 3) = 1e155;
+  EXPECT_EQ(message([&] { RigidFromMatrixOrThrow(m, "traj.log", 7); }),
+            "traj.log:7: pose lies 1e+155 m from the origin (at most 1e+06 m)");
+  m(0, 3) = 9.9e5;
+  EXPECT_EQ(RigidFromMatrixOrThrow(m, "traj.log", 7).translation().x(), 9.9e5);
+  EXPECT_EQ(message([&] {
+              RigidFromQuaternionOrThrow({0, 2e6, 0}, {0, 0, 0, 1}, "gt.txt", 3);
+            }),
+            "gt.txt:3: pose lies 2e+06 m from the origin (at most 1e+06 m)");
+}
+
 TEST(RigidFromQuaternionOrThrow, RejectsNonUnitQuaternion) {
   try {
     RigidFromQuaternionOrThrow({0, 0, 0}, {0, 0, 0, 2}, "groundtruth.txt", 4);

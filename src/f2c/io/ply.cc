@@ -5,6 +5,7 @@
 #include <cstring>
 #include <sstream>
 
+#include "f2c/geometry/rigid.h"
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
 
@@ -84,6 +85,11 @@ PlyPoints ReadPly(const std::filesystem::path& path) {
   const char* at = bytes.data() + body;
   for (size_t i = 0; i < n; ++i) {
     std::memcpy(p.positions[i].data(), at, 12), at += 12;
+    if (!p.positions[i].allFinite()) ThrowInputError(path, fmt::format("PLY: vertex {} is not finite", i));
+    if (p.positions[i].cast<double>().norm() > kMaxCoordinateMetres) {
+      ThrowInputError(path, fmt::format("PLY: vertex {} lies {:.3g} m from the origin (at most {:g} m)", i,
+                                        p.positions[i].cast<double>().norm(), kMaxCoordinateMetres));
+    }
     if (normals) std::memcpy(p.normals[i].data(), at, 12), at += 12;
     if (colors) std::memcpy(p.colors[i].data(), at, 3), at += 3;
   }

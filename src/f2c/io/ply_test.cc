@@ -56,6 +56,18 @@ TEST(Ply, RoundTripsTrianglesAndRejectsACutFile) {
   bad.faces.push_back({0, 1, 4});
   EXPECT_EQ(testing::InputErrorMessage([&] { WritePly(dir / "bad.ply", bad); }),
             (dir / "bad.ply").string() + ": PLY: a face names vertex 4 of 4");
+  // A vertex that is not finite, or farther than any scan reaches, is an error naming it (a
+  // NaN vertex in true surfaces made every distance NaN).
+  PlyPoints nan = m;
+  nan.positions[2].y() = std::nanf("");
+  WritePly(dir / "nan.ply", nan);
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadPly(dir / "nan.ply"); }),
+            (dir / "nan.ply").string() + ": PLY: vertex 2 is not finite");
+  PlyPoints far = m;
+  far.positions[3].z() = 1e30f;
+  WritePly(dir / "far.ply", far);
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadPly(dir / "far.ply"); }),
+            (dir / "far.ply").string() + ": PLY: vertex 3 lies 1e+30 m from the origin (at most 1e+06 m)");
 }
 
 }  // namespace

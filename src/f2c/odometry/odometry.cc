@@ -379,11 +379,13 @@ nlohmann::json ToJson(const PairAlignment& p) {
                       {"degenerate", p.degenerate},
                       {"overlap_rmse", p.overlap_rmse}};
   if (p.method != AlignmentMethod::kMotionPrior && !p.information.isZero()) {
-    std::vector<double> upper;  // row by row, the 21 entries on and above the diagonal
+    // All 36 entries, row by row: the computed matrix is symmetric only to rounding, and a
+    // cached pair must be the computed one bit for bit (the refinement's result too).
+    std::vector<double> entries;
     for (int r = 0; r < 6; ++r) {
-      for (int c = r; c < 6; ++c) upper.push_back(p.information(r, c));
+      for (int c = 0; c < 6; ++c) entries.push_back(p.information(r, c));
     }
-    j["information"] = upper;
+    j["information"] = entries;
   }
   return j;
 }
@@ -446,11 +448,18 @@ PairAlignment PairAlignmentFromJson(const nlohmann::json& j) {
     throw std::invalid_argument("negative or inconsistent counts");
   }
   if (j.contains("information")) {
-    const auto upper = j.at("information").get<std::vector<double>>();
-    if (upper.size() != 21) throw std::invalid_argument("information needs 21 numbers");
+    const auto entries = j.at("information").get<std::vector<double>>();
     int i = 0;
-    for (int r = 0; r < 6; ++r) {
-      for (int c = r; c < 6; ++c) p.information(r, c) = p.information(c, r) = upper[i++];
+    if (entries.size() == 36) {
+      for (int r = 0; r < 6; ++r) {
+        for (int c = 0; c < 6; ++c) p.information(r, c) = entries[i++];
+      }
+    } else if (entries.size() == 21) {  // the upper triangle, as older odometry.json files hold it
+      for (int r = 0; r < 6; ++r) {
+        for (int c = r; c < 6; ++c) p.information(r, c) = p.information(c, r) = entries[i++];
+      }
+    } else {
+      throw std::invalid_argument("information needs 36 numbers (or its 21 upper-triangle ones)");
     }
     if (!p.information.allFinite() || (p.information.diagonal().array() < 0).any()) {
       throw std::invalid_argument("information is not finite or has a negative diagonal");

@@ -16,8 +16,10 @@ struct PairAlignment;
 
 class PairCache {
  public:
-  // An empty path disables the cache. A cache file that cannot be parsed, or of another
-  // version, is ignored with a warning (it is only a cache) and rewritten on Save().
+  // An empty path disables the cache. A cache file that cannot be parsed or of another
+  // version is ignored with a warning (it is only a cache) and rewritten on Save(); so is a
+  // pair that fails the checksum stored with it (one warning for the file). InputError when
+  // the path is not a regular file.
   PairCache(std::filesystem::path path, std::string context);
 
   bool enabled() const { return !path_.empty(); }

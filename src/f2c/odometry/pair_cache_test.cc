@@ -2,10 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 #include "f2c/odometry/odometry.h"
+#include "f2c/testing/log_capture.h"
 #include "f2c/testing/synthetic_scene.h"
 #include "f2c/util/file.h"
 
@@ -51,19 +54,29 @@ TEST(PairAlignmentJson, RoundTripsEveryField) {
   EXPECT_EQ(PairAlignmentFromJson(old).Reference(), 4);
 }
 
-// A pair's information travels as its 21 upper-triangle entries (SIFT, tracked and ICP
-// pairs); a motion-prior pair carries none, and entries without it (older caches) read back
-// as unmeasured.
+// A pair's information travels as its 36 entries (SIFT, tracked and ICP pairs), bit for bit
+// even where rounding left it not quite symmetric (a cached run then refines exactly as the
+// run that computed it); 21 upper-triangle entries (older files) read as the symmetric
+// matrix; a motion-prior pair carries none, and entries without it read back as unmeasured.
 TEST(PairAlignmentJson, InformationOfFittedPairsRoundTrips) {
   PairAlignment a = SomePair();
   a.method = AlignmentMethod::kTrack;
   for (int r = 0; r < 6; ++r) {
     for (int c = 0; c < 6; ++c) a.information(r, c) = r == c ? 1e6 * (r + 1) : 10.0 * (r + c);
   }
+  a.information(2, 1) = std::nextafter(a.information(1, 2), 1e9);
   const nlohmann::json j = ToJson(a);
-  ASSERT_EQ(j.at("information").size(), 21u);
+  ASSERT_EQ(j.at("information").size(), 36u);
   EXPECT_EQ(j.at("information")[1].get<double>(), 10.0);  // row 0, column 1
   EXPECT_EQ(PairAlignmentFromJson(j).information, a.information);
+  nlohmann::json upper = j;
+  upper["information"] = nlohmann::json::array();
+  for (int r = 0; r < 6; ++r) {
+    for (int c = r; c < 6; ++c) upper["information"].push_back(a.information(r, c));
+  }
+  const Eigen::Matrix<double, 6, 6> symmetric = PairAlignmentFromJson(upper).information;
+  EXPECT_EQ(symmetric, symmetric.transpose());
+  EXPECT_EQ(symmetric(2, 1), a.information(1, 2));
   a.method = AlignmentMethod::kIcp;
   EXPECT_EQ(PairAlignmentFromJson(ToJson(a)).information, a.information);
   a.method = AlignmentMethod::kMotionPrior;
@@ -72,7 +85,7 @@ TEST(PairAlignmentJson, InformationOfFittedPairsRoundTrips) {
   nlohmann::json short_list = j, negative = j;
   short_list["information"].erase(0);
   negative["information"][0] = -1.0;
-  EXPECT_EQ(Refusal(short_list), "information needs 21 numbers");
+  EXPECT_EQ(Refusal(short_list), "information needs 36 numbers (or its 21 upper-triangle ones)");
   EXPECT_EQ(Refusal(negative), "information is not finite or has a negative diagonal");
 }
 
@@ -117,11 +130,16 @@ TEST(PairCache, ADamagedEntryIsAMissAndTheOthersAreUsed) {
     cache.Store("bad", SomePair());
     cache.Save();
   }
-  // Damage one entry as a disk or a hand edit could: a scaled matrix.
+  // Damage one entry as a disk or a hand edit could: its translation moved by 5 cm, a
+  // well-formed pair that only its checksum tells from the one computed.
   nlohmann::json j = nlohmann::json::parse(ReadFileToString(path));
-  j["pairs"]["bad"]["prev_from_curr"][0] = 3.0;
+  j["pairs"]["bad"]["pair"]["prev_from_curr"][3] = j["pairs"]["bad"]["pair"]["prev_from_curr"][3].get<double>() + 0.05;
   WriteFileAtomic(path, j.dump());
+  testing::LogCapture log;
   const PairCache cache(path, "context");
+  EXPECT_EQ(log.Lines(),
+            std::vector<std::string>{path.string() + ": 1 cached pair fails its checksum (edited or damaged); "
+                                                     "recomputing"});
   PairAlignment p;
   EXPECT_TRUE(cache.Lookup("good", &p));
   EXPECT_TRUE(p.prev_from_curr.isApprox(SomePair().prev_from_curr, 1e-15));
@@ -132,6 +150,11 @@ TEST(PairCache, ADamagedEntryIsAMissAndTheOthersAreUsed) {
   EXPECT_FALSE(PairCache(path, "context").Lookup("good", &p));
   WriteFileAtomic(path, R"({"version": 1, "pairs": {}})");
   EXPECT_FALSE(PairCache(path, "context").Lookup("good", &p));
+  // What is not a regular file is an error naming it, not a cache read until memory ends.
+  const auto zero = dir / "zero.json";
+  std::filesystem::create_symlink("/dev/zero", zero);
+  EXPECT_EQ(testing::InputErrorMessage([&] { PairCache(zero, "context"); }),
+            zero.string() + ": cache is not a regular file (a device, FIFO or socket)");
 }
 
 }  // namespace

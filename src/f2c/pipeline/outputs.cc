@@ -138,8 +138,11 @@ json RunJson(const RegisterResult& r, const RegisterOptions& options, const Outp
 std::vector<std::string> WriteOutputs(const fs::path& dir, const RegisterResult& r, const RegisterOptions& options,
                                       const OutputOptions& outputs) {
   fs::create_directories(dir);
+  // trajectory.txt goes last, and an older one first: a run stopped while writing never
+  // leaves a trajectory.txt beside files of another run.
+  std::error_code ignored;
+  fs::remove(dir / "trajectory.txt", ignored);
   WriteTumTrajectory(dir / "trajectory_t0.txt", r.odometry.t0);
-  WriteTumTrajectory(dir / "trajectory.txt", r.poses);
   WriteLogTrajectory(dir / "trajectory.log", r.poses);
   WriteConf(dir / "trajectory.conf", r.sequence, r.poses);
   WriteFileAtomic(dir / "odometry.json", PairsToJson(r.odometry.pairs, options.refine.local).dump(1) + "\n");
@@ -157,6 +160,7 @@ std::vector<std::string> WriteOutputs(const fs::path& dir, const RegisterResult&
   WriteFileAtomic(dir / "run.json", run.dump(2) + "\n");
   if (outputs.report)
     WriteFileAtomic(dir / "report.html", RegisterReport(r, run["input"].get<std::string>(), run["options"].dump(2)));
+  WriteTumTrajectory(dir / "trajectory.txt", r.poses);
   return names;
 }
 

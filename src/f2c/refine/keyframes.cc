@@ -34,14 +34,16 @@ Keyframe MakeKeyframe(int frame, const SiftFeatures& sift, int max_keypoints) {
 namespace {
 
 constexpr char kMagic[8] = {'F', '2', 'C', 'K', 'E', 'Y', 'S', '\0'};
-constexpr uint32_t kVersion = 1;
+// 2: each entry followed by its checksum (XXH3 of the entry's bytes).
+constexpr uint32_t kVersion = 2;
 
 template <typename T>
 void Put(std::string* out, const T& v) {
   out->append(reinterpret_cast<const char*>(&v), sizeof(T));
 }
 
-// Reads the cache; a missing, foreign or damaged file gives no entries (and a warning).
+// Reads the cache; a missing or foreign file gives no entries, a damaged entry is left out
+// (one warning for the file).
 std::map<uint64_t, Keyframe> ReadCache(const std::filesystem::path& path, uint64_t context) {
   std::map<uint64_t, Keyframe> out;
   if (path.empty() || !std::filesystem::exists(path)) return out;
@@ -68,15 +70,21 @@ std::map<uint64_t, Keyframe> ReadCache(const std::filesystem::path& path, uint64
   get(&file_context);
   get(&count);
   if (version != kVersion || file_context != context) return out;  // other options: recompute
+  int damaged = 0;
+  bool cut = false;
   for (uint32_t e = 0; e < count; ++e) {
+    const size_t start = at;
     uint64_t key;
     uint32_t frame, points;
-    if (!need(16)) break;
+    if (!need(16)) {
+      cut = true;
+      break;
+    }
     get(&key);
     get(&frame);
     get(&points);
-    if (!need(static_cast<size_t>(points) * (12 + 128))) {
-      spdlog::warn("{}: keyframe cache is truncated; recomputing the rest", path.string());
+    if (!need(static_cast<size_t>(points) * (12 + 128) + 8)) {
+      cut = true;
       break;
     }
     Keyframe k;
@@ -87,7 +95,22 @@ std::map<uint64_t, Keyframe> ReadCache(const std::filesystem::path& path, uint64
     k.descriptors.create(static_cast<int>(points), 128, CV_8U);
     std::memcpy(k.descriptors.data, bytes.data() + at, points * 128);
     at += points * 128;
+    const uint64_t sum = HashBytes(std::string_view(bytes).substr(start, at - start));
+    uint64_t stored;
+    get(&stored);
+    if (stored != sum) {
+      ++damaged;
+      continue;
+    }
     out[key] = std::move(k);
+  }
+  if (damaged > 0 || cut) {
+    spdlog::warn("{}: keyframe cache {}{}{}; recomputing those keyframes", path.string(),
+                 damaged > 0
+                     ? fmt::format("has {} {}", damaged,
+                                   damaged == 1 ? "entry that fails its checksum" : "entries that fail their checksum")
+                     : "",
+                 damaged > 0 && cut ? " and " : "", cut ? "is cut short" : "");
   }
   return out;
 }
@@ -111,6 +134,7 @@ KeyframeStore::KeyframeStore(const RgbdSequence& sequence, const KeyframeOptions
                                     {"max_depth", sift.max_depth},
                                     {"max_depth_spread", sift.max_depth_spread}}}};
   context_ = Fnv1a64(CacheContext(sequence, context.dump()));
+  if (!cache_file_.empty()) CheckCacheFile(cache_file_);
 }
 
 void KeyframeStore::Offer(int frame, const SiftFeatures& sift) {
@@ -161,11 +185,13 @@ std::vector<Keyframe> KeyframeStore::Finish(const std::vector<int>& frames) {
     Put(&out, static_cast<uint32_t>(n));
     for (int i = 0; i < n; ++i) {
       const Keyframe& k = keyframes[i];
+      const size_t start = out.size();
       Put(&out, keys[i]);
       Put(&out, static_cast<uint32_t>(k.frame));
       Put(&out, static_cast<uint32_t>(k.points.size()));
       out.append(reinterpret_cast<const char*>(k.points.data()), k.points.size() * 12);
       out.append(reinterpret_cast<const char*>(k.descriptors.data), k.points.size() * 128);
+      Put(&out, HashBytes(std::string_view(out).substr(start)));
     }
     std::filesystem::create_directories(cache_file_.parent_path().empty() ? "." : cache_file_.parent_path());
     WriteFileAtomic(cache_file_, out);

@@ -6,7 +6,9 @@
 
 #include "f2c/io/image.h"
 #include "f2c/refine/refine.h"
+#include "f2c/testing/log_capture.h"
 #include "f2c/testing/synthetic_scene.h"
+#include "f2c/util/file.h"
 
 namespace f2c {
 namespace {
@@ -252,6 +254,21 @@ TEST(KeyframeStore, OfferedKeyframesAreCachedAndReadBack) {
     for (size_t k = 0; k < first[i].points.size(); ++k) EXPECT_EQ(second[i].points[k], first[i].points[k]);
   }
   EXPECT_GE(first[0].points.size(), 20u);
+
+  // A flipped bit in the second keyframe's descriptors (the last bytes before its checksum):
+  // that keyframe is described again (one warning naming the file), the first is reused.
+  std::string bytes = ReadFileToString(dir / "keyframes.f2ck");
+  bytes[bytes.size() - 9] ^= 0x01;
+  WriteFileAtomic(dir / "keyframes.f2ck", bytes);
+  testing::LogCapture log;
+  KeyframeStore damaged(seq, options, SiftOptions(), dir / "keyframes.f2ck", options.interval);
+  const std::vector<Keyframe> third = damaged.Finish({0, 2});
+  EXPECT_EQ(damaged.cached(), 1);
+  EXPECT_EQ(damaged.computed(), 1);
+  EXPECT_EQ(cv::norm(third[1].descriptors, first[1].descriptors, cv::NORM_L1), 0.0);
+  EXPECT_EQ(log.Lines(), std::vector<std::string>{(dir / "keyframes.f2ck").string() +
+                                                  ": keyframe cache has 1 entry that fails its checksum; "
+                                                  "recomputing those keyframes"});
 }
 
 TEST(LoopKeyframes, TheOdometrysKeyframesOrEveryIntervalthFrame) {

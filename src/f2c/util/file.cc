@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "f2c/util/error.h"
+#include "f2c/util/temp_files.h"
 
 namespace f2c {
 namespace fs = std::filesystem;
@@ -42,27 +43,54 @@ std::string ReadFileToString(const fs::path& path) {
   return bytes;
 }
 
-void WriteFileAtomic(const fs::path& path, std::string_view content) {
+namespace {
+
+// Writes straight into what is not a regular file (a device, a FIFO): it cannot be renamed
+// over, and replacing it would destroy it.
+void WriteThrough(const fs::path& path, std::string_view content) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) ThrowInputError(path, fmt::format("cannot write ({})", std::strerror(errno)));
+  out.write(content.data(), static_cast<std::streamsize>(content.size()));
+  out.flush();
+  if (!out) ThrowInputError(path, fmt::format("write failed ({})", std::strerror(errno)));
+}
+
+}  // namespace
+
+void WriteFileAtomic(const fs::path& given, std::string_view content) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(given, ec);
+  if (fs::is_directory(status)) ThrowInputError(given, "is a folder, not a file");
+  if (fs::exists(status) && !fs::is_regular_file(status)) return WriteThrough(given, content);
+  // Through a symbolic link: the file it names is replaced, the link stays.
+  const fs::path path = fs::is_symlink(fs::symlink_status(given, ec)) ? fs::weakly_canonical(given, ec) : given;
   static std::atomic<int> counter{0};
-  const fs::path tmp = path.string() + fmt::format(".tmp.{}.{}", static_cast<long>(getpid()), counter++);
+  const TemporaryFileName tmp(TemporaryName(path) + fmt::format(".{}", counter++));
   {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) ThrowInputError(path, fmt::format("cannot write ({})", std::strerror(errno)));
+    std::ofstream out(tmp.path(), std::ios::binary | std::ios::trunc);
+    if (!out) ThrowInputError(given, fmt::format("cannot write ({})", std::strerror(errno)));
     out.write(content.data(), static_cast<std::streamsize>(content.size()));
     out.flush();
     if (!out) {
       std::error_code ignored;
-      fs::remove(tmp, ignored);
-      ThrowInputError(path, "write failed (disk full?)");
+      fs::remove(tmp.path(), ignored);
+      ThrowInputError(given, "write failed (disk full?)");
     }
   }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
+  fs::rename(tmp.path(), path, ec);
   if (ec) {
     std::error_code ignored;
-    fs::remove(tmp, ignored);
-    ThrowInputError(path, "cannot rename temporary file into place: " + ec.message());
+    fs::remove(tmp.path(), ignored);
+    ThrowInputError(given, "cannot rename temporary file into place: " + ec.message());
   }
+}
+
+void CheckCacheFile(const fs::path& path) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (!fs::exists(status) || fs::is_regular_file(status)) return;
+  ThrowInputError(path, fs::is_directory(status) ? "cache is a folder, not a file"
+                                                 : "cache is not a regular file (a device, FIFO or socket)");
 }
 
 void EnsureWritableDirectory(const fs::path& dir) {
@@ -90,6 +118,7 @@ OutputFolder::OutputFolder(const fs::path& dir) : dir_(dir), exceptions_(std::un
     }
   }
   EnsureWritableDirectory(dir_);
+  RemoveStaleTemporaries(dir_);  // of runs killed where no handler could remove them
 }
 
 OutputFolder::~OutputFolder() {
@@ -119,11 +148,10 @@ uint64_t Fnv1a64(std::string_view bytes, uint64_t seed) {
   return hash;
 }
 
-uint64_t HashFile(const fs::path& path) {
-  const std::string bytes = ReadFileToString(path);
-  return XXH3_64bits(bytes.data(), bytes.size());
-}
+uint64_t HashFile(const fs::path& path) { return HashBytes(ReadFileToString(path)); }
 
 std::string HexString(uint64_t value) { return fmt::format("{:016x}", value); }
+
+uint64_t HashBytes(std::string_view bytes) { return XXH3_64bits(bytes.data(), bytes.size()); }
 
 }  // namespace f2c

@@ -14,8 +14,15 @@ namespace f2c {
 std::string ReadFileToString(const std::filesystem::path& path);
 
 // Writes `content` to a temporary file beside `path` and renames it into place, so a
-// reader (or a crash) never sees a partial file. InputError naming the path on failure.
+// reader (or a crash) never sees a partial file; a symbolic link keeps pointing at the new
+// file. What is not a regular file is never replaced: a device or FIFO (/dev/null,
+// /dev/stdout, a pipe) is written through, a folder is refused. InputError naming the path
+// on failure (a full disk or device included).
 void WriteFileAtomic(const std::filesystem::path& path, std::string_view content);
+
+// A cache file must be a regular file or absent: InputError naming it when it is a folder,
+// a device, a FIFO or a link to one (a cache read from /dev/zero never ends).
+void CheckCacheFile(const std::filesystem::path& path);
 
 // Creates `dir` (and parents) and checks that a file can be created in it; InputError
 // naming the folder otherwise.
@@ -48,5 +55,7 @@ uint64_t Fnv1a64(std::string_view bytes, uint64_t seed = 0xcbf29ce484222325ULL);
 // InputError if it cannot be read.
 uint64_t HashFile(const std::filesystem::path& path);
 std::string HexString(uint64_t value);
+// XXH3 (64 bits) of bytes in memory: the caches' checksums.
+uint64_t HashBytes(std::string_view bytes);
 
 }  // namespace f2c

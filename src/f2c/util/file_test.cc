@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <filesystem>
+#include <thread>
 
 #include "f2c/util/error.h"
 
@@ -77,22 +80,78 @@ TEST(WriteFileAtomic, WritesContentAndLeavesNoTemporaryFile) {
   EXPECT_EQ(files, 1);
 }
 
-TEST(WriteFileAtomic, FailedRenameLeavesNoTemporaryFile) {
-  // A folder in place of the target makes the final rename fail (also as root).
+TEST(WriteFileAtomic, AFolderInPlaceOfTheFileIsRefusedAndLeavesNoTemporaryFile) {
   const fs::path dir = TempDir("atomic_fail");
   fs::create_directories(dir / "target" / "inside");
   try {
     WriteFileAtomic(dir / "target", "new");
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind((dir / "target").string() + ": cannot rename temporary file into place", 0),
-              0u)
-        << e.what();
+    EXPECT_EQ(std::string(e.what()), (dir / "target").string() + ": is a folder, not a file");
   }
   int files = 0;
   for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir)) ++files;
-  EXPECT_EQ(files, 1);  // just the folder: the temporary file was removed
+  EXPECT_EQ(files, 1);  // just the folder: no temporary file
   EXPECT_TRUE(fs::is_directory(dir / "target" / "inside"));
+}
+
+// What is not a regular file is written through, never renamed over: /dev/null stays the
+// device, a FIFO's reader gets the bytes, and a link keeps naming the file it names.
+TEST(WriteFileAtomic, DevicesAndFifosAreWrittenThroughAndLinksKept) {
+  const fs::path dir = TempDir("atomic_devices");
+  WriteFileAtomic("/dev/null", "nothing\n");
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  const fs::path fifo = dir / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string received;
+  std::thread reader([&] { received = ReadFileToString(fifo); });
+  WriteFileAtomic(fifo, "through the pipe\n");
+  reader.join();
+  EXPECT_EQ(received, "through the pipe\n");
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  WriteFileAtomic(dir / "real.txt", "old");
+  fs::create_symlink("real.txt", dir / "link.txt");
+  WriteFileAtomic(dir / "link.txt", "new");
+  EXPECT_TRUE(fs::is_symlink(dir / "link.txt"));
+  EXPECT_EQ(ReadFileToString(dir / "real.txt"), "new");
+  int files = 0;
+  for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir)) ++files;
+  EXPECT_EQ(files, 3);  // fifo, real.txt, link.txt: no temporary file
+}
+
+// A device that refuses the bytes (a full disk) is an error naming it. /dev/full is only
+// written through (never replaced: the test above), so the test may run as root.
+TEST(WriteFileAtomic, AFullDeviceIsAnError) {
+  if (!fs::is_character_file("/dev/full")) GTEST_SKIP() << "no /dev/full here";
+  try {
+    WriteFileAtomic("/dev/full", std::string(1 << 16, 'x'));
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "/dev/full: write failed (No space left on device)");
+  }
+  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+}
+
+TEST(CheckCacheFile, AcceptsRegularOrAbsentAndNamesEverythingElse) {
+  const fs::path dir = TempDir("cache_kind");
+  CheckCacheFile(dir / "absent");
+  WriteFileAtomic(dir / "file", "x");
+  CheckCacheFile(dir / "file");
+  ASSERT_EQ(::mkfifo((dir / "fifo").c_str(), 0600), 0);
+  auto message = [](const fs::path& p) {
+    try {
+      CheckCacheFile(p);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message(dir / "fifo"),
+            (dir / "fifo").string() + ": cache is not a regular file (a device, FIFO or socket)");
+  EXPECT_EQ(message(dir), dir.string() + ": cache is a folder, not a file");
+  fs::create_symlink("/dev/zero", dir / "zero");
+  EXPECT_EQ(message(dir / "zero"),
+            (dir / "zero").string() + ": cache is not a regular file (a device, FIFO or socket)");
 }
 
 TEST(WriteFileAtomic, MissingFolderNamesThePath) {

@@ -1,7 +1,6 @@
 #include "f2c/util/progress.h"
 
 #include <gtest/gtest.h>
-#include <spdlog/sinks/ostream_sink.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 
@@ -10,30 +9,16 @@
 #include <sstream>
 #include <tuple>
 
+#include "f2c/testing/log_capture.h"
+
 namespace f2c {
 namespace {
 
-// Captures what the default logger prints while it lives (Progress logs a line per 10% when
-// stderr is not a terminal, as under ctest and CI).
-class LogCapture {
+// Progress logs a line per 10% when stderr is not a terminal (as under ctest and CI); CI=1
+// makes it do so when the test runs on a terminal too.
+class LogCapture : public testing::LogCapture {
  public:
-  LogCapture() : previous_(spdlog::default_logger()) {
-    setenv("CI", "1", 1);  // log lines even when the test runs on a terminal
-    auto sink = std::make_shared<spdlog::sinks::ostream_sink_mt>(stream_);
-    sink->set_pattern("%v");
-    spdlog::set_default_logger(std::make_shared<spdlog::logger>("capture", sink));
-  }
-  ~LogCapture() { spdlog::set_default_logger(previous_); }
-  std::vector<std::string> Lines() const {
-    std::vector<std::string> lines;
-    std::istringstream in(stream_.str());
-    for (std::string line; std::getline(in, line);) lines.push_back(line);
-    return lines;
-  }
-
- private:
-  std::shared_ptr<spdlog::logger> previous_;
-  std::ostringstream stream_;
+  LogCapture() { setenv("CI", "1", 1); }
 };
 
 TEST(Progress, LogsEveryTenthAndTheEndOnce) {
