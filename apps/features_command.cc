@@ -6,9 +6,9 @@
 
 #include <cstdio>
 #include <memory>
-#include <opencv2/imgcodecs.hpp>
 
 #include "apps/commands.h"
+#include "f2c/io/image_write.h"
 #include "f2c/pipeline/outputs.h"
 #include "apps/feature_views.h"
 #include "apps/fields_cli.h"
@@ -47,9 +47,7 @@ int RunFeatures(const FeaturesArgs& args) {
         FeatureDebug debug;
         const FrameFeatures f = ExtractFrameFeatures(LoadDepthMeters(seq, seq.frames[i]), k, args.features, &debug);
         const fs::path path = out / "images" / (name + ".png");
-        const fs::path tmp = path.string() + ".tmp.png";
-        if (!cv::imwrite(tmp.string(), DrawFeatures(f, debug, k))) ThrowInputError(path, "cannot write image");
-        fs::rename(tmp, path);
+        WritePngFile(path, DrawFeatures(f, debug, k));
       }
     });
   }

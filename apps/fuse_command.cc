@@ -4,10 +4,10 @@
 
 #include <cstdio>
 #include <memory>
-#include <opencv2/imgcodecs.hpp>
 
 #include "apps/commands.h"
 #include "apps/fields_cli.h"
+#include "f2c/io/image_write.h"
 #include "f2c/report/mesh_views.h"
 #include "f2c/util/error.h"
 #include "f2c/util/fields_json.h"
@@ -46,9 +46,7 @@ int RunFuse(const FuseArgs& args) {
         {stem + "_top.png", TopView(fused.mesh, up, ahead, 1024)},
         {stem + "_view.png", PerspectiveView(fused.mesh, up, ahead, 1024, 768)}};
     for (const auto& [path, view] : views) {
-      const std::string tmp = path + ".tmp.png";
-      if (!cv::imwrite(tmp, RenderMesh(fused.mesh, view))) ThrowInputError(path, "cannot write image");
-      fs::rename(tmp, path);
+      WritePngFile(path, RenderMesh(fused.mesh, view));
       pictures.push_back(path);
     }
   }

@@ -5,10 +5,10 @@
 #include <fmt/format.h>
 
 #include <cstdio>
-#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
+#include "f2c/io/image_write.h"
 #include "f2c/sim/render.h"
 #include "f2c/sim/walk.h"
 #include "f2c/util/timer.h"
@@ -36,12 +36,12 @@ int main(int argc, char** argv) {
       rates[mode] = frames / timer.Seconds();
     }
     Timer timer;
-    std::vector<uchar> buffer;
+    std::string buffer;
     cv::Mat depth16;
     for (int i = 0; i < frames; ++i) {
       last.depth.convertTo(depth16, CV_16U, 5000.0);
-      cv::imencode(".png", last.color, buffer);
-      cv::imencode(".png", depth16, buffer);
+      buffer = EncodePng(last.color);
+      buffer = EncodePng(depth16);
     }
     std::printf("| %s | %zu | %.1f | %.1f | %.1f |\n", name.c_str(), scene.triangles.size(), rates[0], rates[1],
                 frames / timer.Seconds());

@@ -8,13 +8,13 @@
 #include <atomic>
 #include <cmath>
 #include <mutex>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 #include <vector>
 
+#include "f2c/io/image_write.h"
 #include "f2c/pipeline/outputs.h"
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
@@ -265,9 +265,8 @@ Result RegisterFrames(const py::sequence& colors, const py::sequence& depths, co
       }
     }
     const std::string name = fmt::format("{:06d}.png", k);
-    if (!cv::imwrite((dir / "rgb" / name).string(), bgr) || !cv::imwrite((dir / "depth" / name).string(), units)) {
-      ThrowInputError(dir, "cannot write the frames");
-    }
+    WritePngFile(dir / "rgb" / name, bgr);
+    WritePngFile(dir / "depth" / name, units);
     rgb_txt += fmt::format("{:.6f} rgb/{}\n", times[k], name);
     depth_txt += fmt::format("{:.6f} depth/{}\n", times[k], name);
   }

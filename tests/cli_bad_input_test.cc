@@ -354,7 +354,7 @@ std::vector<std::string> Temporaries(const fs::path& dir) {
 // its temporary files are gone, and no trajectory.txt is left without the rest. A run killed
 // where no handler runs (SIGKILL) leaves its temporary file; the next run removes it.
 TEST(Cli, AStoppedRunLeavesNoTemporaryFile) {
-  const fs::path scan = SyntheticTum("cli_signal_scan", 40);
+  const fs::path scan = SyntheticTum("cli_signal_scan", 16);
   const fs::path base = testing::FreshTempDir("cli_signal");
   for (int signal_number : {SIGINT, SIGTERM, SIGKILL}) {
     const fs::path out = base / std::to_string(signal_number);
@@ -386,7 +386,7 @@ TEST(Cli, AStoppedRunLeavesNoTemporaryFile) {
     if (signal_number == SIGKILL) {
       EXPECT_FALSE(Temporaries(out).empty());  // no handler ran
       const Result again = RunCli("register " + scan.string() + " -o " + out.string() +
-                                  " -q --no-report --no-mesh --intrinsics 525,525,319.5,239.5");
+                                  " -q --stop-after odometry --no-report --intrinsics 525,525,319.5,239.5");
       EXPECT_EQ(again.code, 0) << again.output;
       EXPECT_TRUE(fs::exists(out / "trajectory.txt"));
     }
@@ -404,8 +404,9 @@ TEST(Cli, FifosAreWrittenThroughAndACacheFifoIsAnError) {
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   std::string config;
   std::thread reader([&] { config = ReadFileToString(fifo); });
-  const Result written = RunCli("register " + scan.string() + " -o " + (dir / "out").string() +
-                                " --intrinsics 525,525,319.5,239.5 --write-config " + fifo.string());
+  const Result written =
+      RunCli("register " + scan.string() + " -o " + (dir / "out").string() +
+             " --stop-after odometry --no-report --intrinsics 525,525,319.5,239.5 --write-config " + fifo.string());
   reader.join();
   EXPECT_EQ(written.code, 0) << written.output;
   EXPECT_TRUE(fs::is_fifo(fifo));

@@ -9,9 +9,11 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
+#include <opencv2/imgcodecs.hpp>  // the decoding flags
+
+#include "f2c/io/image.h"
 #include "f2c/testing/synthetic_scene.h"
 #include "f2c/util/file.h"
 
@@ -88,7 +90,7 @@ TEST(ReportInABrowser, LoadsWithoutErrorsAndDrawsThe3dView) {
   ASSERT_NE(html.find("<canvas id=\"view3d\""), std::string::npos) << "no 3D view in the report";
   WriteFileAtomic(dir / "view.html", html.substr(0, run) + html.substr(view));
   Headless(chromium, dir / "view.html", dir / "view.png", &code);
-  const cv::Mat shot = cv::imread((dir / "view.png").string(), cv::IMREAD_GRAYSCALE);
+  const cv::Mat shot = DecodeImageFile(dir / "view.png", cv::IMREAD_GRAYSCALE);
   ASSERT_FALSE(shot.empty());
   // The canvas (1000 x 640, its border at x = 0 and y = 150 under the headings), well inside
   // its border: not all one colour (a canvas never drawn is all black; an empty scene, all

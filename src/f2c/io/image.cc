@@ -6,7 +6,12 @@
 #include <array>
 #include <string_view>
 #include <tuple>
+#include <filesystem>
+#include <string>
 #include <vector>
+#include <dlfcn.h>
+#include <unistd.h>
+
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -35,6 +40,29 @@ bool LooksLikeRgbdImage(std::string_view b) {
          starts(std::string_view("II*\0", 4)) || starts(std::string_view("MM\0*", 4)) || starts("BM");
 }
 
+// OpenCV's decoders (opencv_codecs.cc), loaded at their first use: from the build folder, or
+// from beside the running program. Null when neither is there.
+using OpenCvDecode = int (*)(const unsigned char*, size_t, int, cv::Mat*);
+OpenCvDecode OpenCvDecoder() {
+  static const OpenCvDecode decode = []() -> OpenCvDecode {
+    std::vector<std::string> candidates = {F2C_OPENCV_CODECS_PATH};
+    char exe[4096];
+    const ssize_t n = ::readlink("/proc/self/exe", exe, sizeof(exe) - 1);
+    if (n > 0) {
+      candidates.push_back(
+          (std::filesystem::path(std::string(exe, n)).parent_path() / F2C_OPENCV_CODECS_NAME).string());
+    }
+    candidates.push_back(F2C_OPENCV_CODECS_NAME);  // the loader's own search path
+    for (const std::string& candidate : candidates) {
+      if (void* library = ::dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL)) {
+        return reinterpret_cast<OpenCvDecode>(::dlsym(library, "f2c_opencv_imdecode"));
+      }
+    }
+    return nullptr;
+  }();
+  return decode;
+}
+
 }  // namespace
 
 cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags) {
@@ -52,12 +80,14 @@ cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags) {
   // OpenEXR, ...) are never needed here, and a damaged file can abort inside them (found by
   // fuzz_images: gdcm's assertion on bytes that looked like DICOM).
   if (!LooksLikeRgbdImage(bytes)) ThrowInputError(path, "cannot decode image (corrupt or not an image)");
-  try {
-    image = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), flags);
-  } catch (const cv::Exception&) {
-    image.release();
+  const OpenCvDecode decode = OpenCvDecoder();
+  if (decode == nullptr) {
+    ThrowInputError(path, std::string("this kind of image needs OpenCV's decoders, and ") + F2C_OPENCV_CODECS_NAME +
+                              " was found neither in the build folder nor beside the program");
   }
-  if (image.empty()) ThrowInputError(path, "cannot decode image (corrupt or not an image)");
+  if (!decode(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), flags, &image)) {
+    ThrowInputError(path, "cannot decode image (corrupt or not an image)");
+  }
   return image;
 }
 

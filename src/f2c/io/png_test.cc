@@ -49,7 +49,7 @@ void PutChunk(std::string* png, const std::string& type, const std::string& body
 // every row, or row % 5 for -1, so
 // each of the five filters is checked against OpenCV's decoder (libpng). `image` is grey or
 // RGB (as OpenCV's BGR), 8 or 16 bits. The zlib stream is split over two IDAT chunks.
-std::string EncodePng(const cv::Mat& image, int filter, const std::string& extra_chunk = {}) {
+std::string HandMadePng(const cv::Mat& image, int filter, const std::string& extra_chunk = {}) {
   const int channels = image.channels(), bytes = image.depth() == CV_16U ? 2 : 1, bpp = channels * bytes;
   const size_t row_bytes = static_cast<size_t>(image.cols) * bpp;
   std::vector<uint8_t> rows(image.rows * row_bytes);
@@ -124,7 +124,7 @@ const Case kCases[] = {{PngRequest::kGray, cv::IMREAD_GRAYSCALE},
 TEST(DecodePng, RgbAndGreyEqualOpenCvForEveryFilterAndRequest) {
   for (int type : {CV_8UC3, CV_8UC1}) {
     for (int filter = -1; filter <= 4; ++filter) {
-      const std::string png = EncodePng(PngTestImage(type, 1 + filter + 10 * type), filter);
+      const std::string png = HandMadePng(PngTestImage(type, 1 + filter + 10 * type), filter);
       for (const Case& c : kCases) {
         cv::Mat ours;
         ASSERT_EQ(DecodePng(png, c.request, &ours), DecodeStatus::kDecoded) << "type " << type << " filter " << filter;
@@ -137,7 +137,7 @@ TEST(DecodePng, RgbAndGreyEqualOpenCvForEveryFilterAndRequest) {
 TEST(DecodePng, SixteenBitDepthEqualsOpenCv) {
   for (int filter = -1; filter <= 4; ++filter) {
     const cv::Mat depth = PngTestImage(CV_16UC1, 21 + filter);
-    const std::string png = EncodePng(depth, filter);
+    const std::string png = HandMadePng(depth, filter);
     cv::Mat ours;
     ASSERT_EQ(DecodePng(png, PngRequest::kUnchanged, &ours), DecodeStatus::kDecoded) << "filter " << filter;
     ExpectSame(ours, depth);
@@ -169,8 +169,8 @@ TEST(DecodePng, LeavesOtherKindsToOpenCv) {
   cv::imencode(".png", PngTestImage(CV_16UC3, 7), buffer);
   EXPECT_EQ(DecodePng(std::string(buffer.begin(), buffer.end()), PngRequest::kUnchanged, &out),
             DecodeStatus::kNotHandled);
-  EXPECT_EQ(DecodePng(EncodePng(PngTestImage(CV_16UC1, 8), 1), PngRequest::kGray, &out), DecodeStatus::kNotHandled);
-  EXPECT_EQ(DecodePng(EncodePng(rgb, 1, std::string("gAMA\0\0\xb1\x8f", 8)), PngRequest::kGray, &out),
+  EXPECT_EQ(DecodePng(HandMadePng(PngTestImage(CV_16UC1, 8), 1), PngRequest::kGray, &out), DecodeStatus::kNotHandled);
+  EXPECT_EQ(DecodePng(HandMadePng(rgb, 1, std::string("gAMA\0\0\xb1\x8f", 8)), PngRequest::kGray, &out),
             DecodeStatus::kNotHandled);
   EXPECT_EQ(DecodePng("\xff\xd8\xff\xe0 not a png", PngRequest::kGray, &out), DecodeStatus::kNotHandled);
   EXPECT_TRUE(out.empty());  // untouched
@@ -195,7 +195,7 @@ TEST(DecodePng, RefusesAnOversizedImageFromItsHeader) {
 
 TEST(DecodePng, SaysHowADamagedFileIsDamaged) {
   const cv::Mat rgb = PngTestImage(CV_8UC3, 5);
-  const std::string png = EncodePng(rgb, 4);
+  const std::string png = HandMadePng(rgb, 4);
   cv::Mat out;
   ASSERT_EQ(DecodePng(png, PngRequest::kGray, &out), DecodeStatus::kDecoded);
   const cv::Mat decoded = out;
@@ -209,10 +209,10 @@ TEST(DecodePng, SaysHowADamagedFileIsDamaged) {
   EXPECT_EQ(problem(flipped), "corrupt PNG: bad checksum in the IDAT chunk");
   EXPECT_EQ(problem(png.substr(0, png.size() - 30)), "corrupt PNG: the IDAT chunk is cut short");
   EXPECT_EQ(problem(png.substr(0, png.size() - 12)), "corrupt PNG: no IEND chunk (cut short?)");
-  EXPECT_EQ(problem(EncodePng(rgb, 5)), "corrupt PNG: unknown filter type 5 in row 0");
+  EXPECT_EQ(problem(HandMadePng(rgb, 5)), "corrupt PNG: unknown filter type 5 in row 0");
   EXPECT_EQ(out.data, decoded.data);  // untouched by the failures
   // A damaged ancillary chunk is libpng's to skip.
-  std::string text = EncodePng(rgb, 1);
+  std::string text = HandMadePng(rgb, 1);
   text[text.find("Comment") + 2] ^= 1;
   EXPECT_EQ(DecodePng(text, PngRequest::kGray, &out), DecodeStatus::kNotHandled);
 }

@@ -1,9 +1,9 @@
+#include "f2c/io/image_write.h"
 #include "f2c/pipeline/register_report.h"
 
 #include <fmt/format.h>
 
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 
 #include "f2c/io/correspondences.h"
 #include "f2c/pipeline/outputs.h"
@@ -79,9 +79,7 @@ void AddMesh(const PlyPoints& mesh, const Trajectory& poses, ReportInput* in) {
   const Eigen::Vector3d up = EstimateUp(mesh, camera_up), ahead = poses.world_from_camera.front().linear().col(2);
   std::string pictures;
   for (const MeshView& view : {TopView(mesh, up, ahead, 900), PerspectiveView(mesh, up, ahead, 900, 675)}) {
-    std::vector<uchar> jpeg;
-    cv::imencode(".jpg", RenderMesh(mesh, view), jpeg, {cv::IMWRITE_JPEG_QUALITY, 85});
-    pictures += InlineImage(std::string(jpeg.begin(), jpeg.end()), "image/jpeg", "the mesh", 640);
+    pictures += InlineImage(EncodeJpeg(RenderMesh(mesh, view), 85), "image/jpeg", "the mesh", 640);
   }
   in->extra_html = "<section><h2>Mesh</h2>\n" + pictures + "</section>\n";
   // The 3D view: at most 150,000 of the mesh's vertices, evenly strided.

@@ -42,9 +42,9 @@ void Put(std::string* out, const T& v) {
   out->append(reinterpret_cast<const char*>(&v), sizeof(T));
 }
 
-// Reads the cache; a missing or foreign file gives no entries, a damaged entry is left out
-// (one warning for the file).
-std::map<uint64_t, Keyframe> ReadCache(const std::filesystem::path& path, uint64_t context) {
+}  // namespace
+
+std::map<uint64_t, Keyframe> ReadKeyframeCache(const std::filesystem::path& path, uint64_t context) {
   std::map<uint64_t, Keyframe> out;
   if (path.empty() || !std::filesystem::exists(path)) return out;
   std::string bytes;
@@ -115,8 +115,6 @@ std::map<uint64_t, Keyframe> ReadCache(const std::filesystem::path& path, uint64
   return out;
 }
 
-}  // namespace
-
 KeyframeStore::KeyframeStore(const RgbdSequence& sequence, const KeyframeOptions& options, const SiftOptions& sift,
                              std::filesystem::path cache_file, int interval)
     : seq_(sequence), options_(options), sift_(sift), cache_file_(std::move(cache_file)), interval_(interval) {
@@ -152,7 +150,7 @@ std::vector<Keyframe> KeyframeStore::Finish(const std::vector<int>& frames) {
     tbb::parallel_for(
         0, n, [&](int i) { keys[i] = HashFrameFiles(seq_.frames[frames[i]]) ^ (context_ * 0x9E3779B97F4A7C15ULL); });
   }
-  std::map<uint64_t, Keyframe> cache = ReadCache(cache_file_, context_);
+  std::map<uint64_t, Keyframe> cache = ReadKeyframeCache(cache_file_, context_);
   std::vector<int> missing;
   for (int i = 0; i < n; ++i) {
     F2C_CHECK(

@@ -75,6 +75,10 @@ class KeyframeStore {
   int computed_ = 0, cached_ = 0;
 };
 
+// The keyframe cache's entries by key, when it was written for `context` (another context:
+// none). A missing file gives none; a damaged entry is left out (one warning for the file).
+std::map<uint64_t, Keyframe> ReadKeyframeCache(const std::filesystem::path& path, uint64_t context);
+
 // The loop matcher's keyframes: every interval-th frame, or (interval 0) frame 0 and each
 // frame the odometry started a keyframe at; every 5th frame when it started none.
 std::vector<int> LoopKeyframes(int frames, const KeyframeOptions& options, const std::vector<int>& odometry_keyframes);

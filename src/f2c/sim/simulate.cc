@@ -3,11 +3,11 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
-#include <opencv2/imgcodecs.hpp>
 #include <algorithm>
 #include <cmath>
 #include <random>
 
+#include "f2c/io/image_write.h"
 #include "f2c/io/ply.h"
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
@@ -23,15 +23,6 @@ void SimulateOptions::Check() const {
 }
 
 namespace {
-
-// Pixels are written with cv::imwrite to a temporary name, then renamed: no half PNGs.
-void WriteImageAtomic(const fs::path& path, const cv::Mat& image) {
-  const fs::path tmp = path.string() + ".tmp.png";
-  if (!cv::imwrite(tmp.string(), image)) ThrowInputError(path, "cannot write image");
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) ThrowInputError(path, "cannot rename temporary file into place: " + ec.message());
-}
 
 // A point of frame a's exact geometry at pixel (u, v) seen also by frame b, or false.
 bool Correspond(const Renderer& renderer, const CameraIntrinsics& k, const Rigid3d& world_from_a,
@@ -144,8 +135,8 @@ Trajectory Simulate(const fs::path& dir, const SimulateOptions& options, bool qu
         renderer.Render(options.intrinsics, poses.world_from_camera[i], options.sensor, options.seed * 1000003ULL + i);
     cv::Mat depth16;
     view.depth.convertTo(depth16, CV_16U, 5000.0);
-    WriteImageAtomic(dir / "rgb" / (names[i] + ".png"), view.color);
-    WriteImageAtomic(dir / "depth" / (names[i] + ".png"), depth16);
+    WritePngFile(dir / "rgb" / (names[i] + ".png"), view.color);
+    WritePngFile(dir / "depth" / (names[i] + ".png"), depth16);
     progress.Advance();
   });
   progress.Finish();

@@ -1,3 +1,4 @@
+#include "f2c/io/image_write.h"
 #include "f2c/testing/synthetic_scene.h"
 
 #include <unistd.h>
@@ -82,8 +83,6 @@ RenderedFrame Render(const SyntheticScene& scene, const CameraIntrinsics& k, con
 
 #include <fmt/format.h>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
 
@@ -101,8 +100,8 @@ Trajectory WriteTumSequence(const std::filesystem::path& dir, const SyntheticSce
     cv::Mat depth16;
     frame.depth.convertTo(depth16, CV_16U, 5000.0);
     const std::string name = fmt::format("{:.6f}", t);
-    cv::imwrite((dir / "rgb" / (name + ".png")).string(), frame.color);
-    cv::imwrite((dir / "depth" / (name + ".png")).string(), depth16);
+    WritePngFile(dir / "rgb" / (name + ".png"), frame.color);
+    WritePngFile(dir / "depth" / (name + ".png"), depth16);
     rgb_txt += fmt::format("{} rgb/{}.png\n", name, name);
     depth_txt += fmt::format("{:.6f} depth/{}.png\n", t + 0.001, name);
     gt.Add(t, poses[i]);
