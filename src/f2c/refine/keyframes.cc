@@ -90,11 +90,12 @@ std::map<uint64_t, Keyframe> ReadKeyframeCache(const std::filesystem::path& path
     Keyframe k;
     k.frame = static_cast<int>(frame);
     k.points.resize(points);
-    std::memcpy(static_cast<void*>(k.points.data()), bytes.data() + at, points * 12);
-    at += points * 12;
     k.descriptors.create(static_cast<int>(points), 128, CV_8U);
-    std::memcpy(k.descriptors.data, bytes.data() + at, points * 128);
-    at += points * 128;
+    if (points > 0) {  // memcpy into an empty vector's null data is undefined, even of 0 bytes
+      std::memcpy(static_cast<void*>(k.points.data()), bytes.data() + at, points * 12);
+      std::memcpy(k.descriptors.data, bytes.data() + at + points * 12, points * 128);
+    }
+    at += points * (12 + 128);
     const uint64_t sum = HashBytes(std::string_view(bytes).substr(start, at - start));
     uint64_t stored;
     get(&stored);
