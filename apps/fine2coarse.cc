@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <iostream>
 #include <new>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -48,14 +49,25 @@ int main(int argc, char** argv) {
   const std::vector<Subcommand> commands = {
       AddRegisterCommand(&app), AddFeaturesCommand(&app), AddEvaluateCommand(&app), AddSimulateCommand(&app),
       AddDemoCommand(&app),     AddInfoCommand(&app),     AddFuseCommand(&app),     AddCliReferenceCommand(&app)};
+  // Results (and --help, --version) go to stdout: a full disk or a closed pipe must not pass
+  // for success.
+  auto stdout_failed = [] {
+    std::cout.flush();
+    if (std::fflush(stdout) == 0 && !std::ferror(stdout) && std::cout.good()) return false;
+    std::fprintf(stderr, "error: stdout: %s\n", std::strerror(errno != 0 ? errno : EIO));
+    return true;
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
+    const int code = app.exit(e);
+    return stdout_failed() ? 1 : code;
   } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
+    const int code = app.exit(e);
+    return stdout_failed() ? 1 : code;
   } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
+    const int code = app.exit(e);
+    return stdout_failed() ? 1 : code;
   } catch (const CLI::ParseError& e) {
     app.exit(e);
     return 2;
@@ -94,10 +106,5 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "error: %s\n", what.c_str());
     return 1;
   }
-  // Results went to stdout: a full disk or a closed pipe must not pass for success.
-  if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
-    std::fprintf(stderr, "error: stdout: %s\n", std::strerror(errno));
-    return 1;
-  }
-  return code;
+  return stdout_failed() ? 1 : code;
 }

@@ -223,6 +223,15 @@ TEST(Cli, FailedWritesToStdoutAndAbsurdOptionsAreErrors) {
   Result r = RunCli("info " + dir.string() + " --intrinsics primesense --json", " 2>&1 > /dev/full");
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(r.output, "error: stdout: No space left on device\n");
+  // --help and --version too: to a full disk, or to a closed stdout.
+  for (const char* args : {"--version", "register --help", "register --help-all"}) {
+    r = RunCli(args, " 2>&1 > /dev/full");
+    EXPECT_EQ(r.code, 1) << args;
+    EXPECT_EQ(r.output, "error: stdout: No space left on device\n") << args;
+  }
+  r = RunCli("--version", " 2>&1 >&-");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.output, "error: stdout: Bad file descriptor\n");
   r = RunCli("simulate --frames 2000000000 -o " + (testing::FreshTempDir("cli_absurd") / "s").string());
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(r.output, "error: --frames: must be in [1, 100000], got 2000000000\n");

@@ -16,7 +16,7 @@ import fine2coarse
 
 CLI = os.environ.get("F2C_CLI", "fine2coarse")
 SHARED = os.environ.get("F2C_SHARED_DATA_DIR", "")
-N = 20  # frames of the simulated scan
+N = 12  # frames of the simulated scan
 
 
 # Under the sanitized build ctest preloads AddressSanitizer's runtime for Python; the command

@@ -100,7 +100,7 @@ double Fuse90(const std::vector<testing::RenderedFrame>& frames, const std::vect
 }
 
 TEST(TsdfVolume, BoxRoomWithTruePosesLiesOnItsWallsAndWrongPosesShow) {
-  const std::vector<Rigid3d> truth = LookAround(8);
+  const std::vector<Rigid3d> truth = LookAround(5);
   const std::vector<testing::RenderedFrame> frames = RenderAll(truth);
   PlyPoints mesh;
   const double exact = Fuse90(frames, truth, &mesh);
