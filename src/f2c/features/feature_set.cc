@@ -385,12 +385,7 @@ void FeatureExtraction::ReadCache() {
     }
   }
   if (damaged > 0 || cut) {
-    spdlog::warn("{}: feature cache {}{}{} (recomputing those frames)", path.string(),
-                 damaged > 0
-                     ? fmt::format("has {} {}", damaged,
-                                   damaged == 1 ? "entry that fails its checksum" : "entries that fail their checksum")
-                     : "",
-                 damaged > 0 && cut ? " and " : "", cut ? "is cut short" : "");
+    spdlog::warn("{}: feature cache {} (recomputing those frames)", path.string(), CacheDamage(damaged, cut));
   }
   const int hits = static_cast<int>(std::count(hit.begin(), hit.end(), 1));
   if (hits < n) writer_ = std::make_unique<CacheWriter>(path, context_);

@@ -106,12 +106,7 @@ std::map<uint64_t, Keyframe> ReadKeyframeCache(const std::filesystem::path& path
     out[key] = std::move(k);
   }
   if (damaged > 0 || cut) {
-    spdlog::warn("{}: keyframe cache {}{}{}; recomputing those keyframes", path.string(),
-                 damaged > 0
-                     ? fmt::format("has {} {}", damaged,
-                                   damaged == 1 ? "entry that fails its checksum" : "entries that fail their checksum")
-                     : "",
-                 damaged > 0 && cut ? " and " : "", cut ? "is cut short" : "");
+    spdlog::warn("{}: keyframe cache {}; recomputing those keyframes", path.string(), CacheDamage(damaged, cut));
   }
   return out;
 }

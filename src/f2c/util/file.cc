@@ -154,4 +154,14 @@ std::string HexString(uint64_t value) { return fmt::format("{:016x}", value); }
 
 uint64_t HashBytes(std::string_view bytes) { return XXH3_64bits(bytes.data(), bytes.size()); }
 
+std::string CacheDamage(int failing, bool cut) {
+  std::string text;
+  if (failing > 0) {
+    text = fmt::format("has {} {}", failing,
+                       failing == 1 ? "entry that fails its checksum" : "entries that fail their checksum");
+  }
+  if (cut) text += std::string(text.empty() ? "" : " and ") + "is cut short";
+  return text;
+}
+
 }  // namespace f2c

@@ -58,4 +58,8 @@ std::string HexString(uint64_t value);
 // XXH3 (64 bits) of bytes in memory: the caches' checksums.
 uint64_t HashBytes(std::string_view bytes);
 
+// What a cache reader found damaged, for its one warning: "has 2 entries that fail their
+// checksum", "is cut short", or both joined by "and"; empty when nothing was.
+std::string CacheDamage(int entries_failing_checksum, bool cut_short);
+
 }  // namespace f2c

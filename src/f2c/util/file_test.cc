@@ -192,5 +192,12 @@ TEST(Fnv1a64, KnownVectors) {
   EXPECT_EQ(Fnv1a64("foobar"), 0x85944171f73967e8ULL);
 }
 
+TEST(CacheDamage, SaysWhatWasFoundInOnePhrase) {
+  EXPECT_EQ(CacheDamage(0, false), "");
+  EXPECT_EQ(CacheDamage(1, false), "has 1 entry that fails its checksum");
+  EXPECT_EQ(CacheDamage(3, true), "has 3 entries that fail their checksum and is cut short");
+  EXPECT_EQ(CacheDamage(0, true), "is cut short");
+}
+
 }  // namespace
 }  // namespace f2c
