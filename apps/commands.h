@@ -43,6 +43,9 @@ struct RegisterArgs {
   bool save_iterations = false;  // OUTDIR/iterations/iteration_NN.txt
   bool write_report = true;      // OUTDIR/report.html (--no-report: off)
   bool use_cache = true;         // OUTDIR/cache (--no-cache: off)
+  // --write-config: this file gets `config_text` once the input has been read and checked.
+  std::string write_config;
+  std::string config_text;
 };
 int RunRegister(const RegisterArgs& args);
 

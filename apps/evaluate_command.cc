@@ -25,24 +25,17 @@ using nlohmann::json;
 
 namespace {
 
-// A trajectory file; .log / .conf files carry frame ids, placed at the dataset's frame times.
-Trajectory LoadEstimate(const fs::path& path, const Trajectory& gt, const std::vector<double>& frame_timestamps) {
+// A trajectory file; .log / .conf files name frames (by id, by image name), placed at the
+// dataset's frame times.
+Trajectory LoadEstimate(const fs::path& path, const Trajectory& gt, const std::optional<RgbdSequence>& dataset) {
   Trajectory est = ReadTrajectoryFile(path);
   if (est.has_timestamps || !gt.has_timestamps) return est;
-  if (frame_timestamps.empty()) {
+  if (!dataset) {
     ThrowInputError(path,
                     "has no time stamps (.log/.conf); give --ground-truth as the "
                     "dataset folder so frame ids can be placed in time");
   }
-  for (double& id : est.timestamps) {
-    const auto i = static_cast<long>(id);
-    if (i < 0 || i >= static_cast<long>(frame_timestamps.size())) {
-      ThrowInputError(path, fmt::format("frame id {} but the dataset has {} frames", i, frame_timestamps.size()));
-    }
-    id = frame_timestamps[i];
-  }
-  est.has_timestamps = true;
-  return est;
+  return PlaceAtFrames(std::move(est), *dataset, path);
 }
 
 void PrintStatsRow(const char* name, const char* unit, const ErrorStatistics& s) {
@@ -60,7 +53,7 @@ int RunEvaluate(const EvaluateArgs& args) {
   if (dataset) {
     for (const RgbdFrame& f : dataset->frames) frame_timestamps.push_back(f.timestamp);
   }
-  const Trajectory est = LoadEstimate(args.estimate, gt, frame_timestamps);
+  const Trajectory est = LoadEstimate(args.estimate, gt, dataset);
   // The report's further trajectories, read (and checked) before anything is measured.
   std::vector<std::pair<std::string, Trajectory>> also;
   for (const std::string& spec : args.also) {
@@ -68,7 +61,7 @@ int RunEvaluate(const EvaluateArgs& args) {
     if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size()) {
       ThrowInputError("--also", fmt::format("'{}' is not NAME=FILE", spec));
     }
-    also.emplace_back(spec.substr(0, eq), LoadEstimate(spec.substr(eq + 1), gt, frame_timestamps));
+    also.emplace_back(spec.substr(0, eq), LoadEstimate(spec.substr(eq + 1), gt, dataset));
   }
   const EvaluationOptions& options = args.evaluation;
   const EvaluationResult r = Evaluate(est, gt, options);

@@ -28,6 +28,7 @@
 #include "f2c/optim/blas_threads.h"
 #include "f2c/util/error.h"
 #include "f2c/util/temp_files.h"
+#include "apps/config_check.h"
 
 int main(int argc, char** argv) {
   // Logs go to stderr, so stdout carries only results (tables, JSON).
@@ -57,6 +58,20 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "error: stdout: %s\n", std::strerror(errno != 0 ? errno : EIO));
     return true;
   };
+  // What CLI11 would read wrongly from a config file: a usage error, as its own are.
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    std::string file;
+    if (arg == "--config" && i + 1 < argc) file = argv[i + 1];
+    if (arg.rfind("--config=", 0) == 0) file = arg.substr(9);
+    if (file.empty()) continue;
+    try {
+      CheckConfigFile(file);
+    } catch (const f2c::InputError& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -52,6 +52,11 @@ int RunRegister(const RegisterArgs& args) {
     options.initial_poses = PosesFor(seq, args.initial_trajectory, args.io);
     options.initial_name = args.initial_trajectory;
   }
+  if (!args.write_config.empty()) {  // only for a run that can start: options and input checked
+    RequireIntrinsics(seq);
+    WriteFileAtomic(args.write_config, args.config_text);
+    spdlog::info("options written to {}", args.write_config);
+  }
   const OutputFolder output_folder(out);  // a run stopped by an error leaves no empty folders
   spdlog::info("{}: {} layout, {} frames", args.input, LayoutName(seq.layout), seq.frames.size());
   if (args.use_cache) options.cache_dir = out / "cache";
@@ -136,10 +141,12 @@ Subcommand AddRegisterCommand(CLI::App* app) {
             options.CheckStart(!args->initial_trajectory.empty());
             args->io.Check();
             options.Check();
-            if (!write_config->empty()) {  // only once the options are known to be good
-              // Every option with its value (defaults too), so the file reproduces the run; but the
-              // preset's own values are left to the preset (written, they would count as given, and
-              // the preset would not set them when the file is read).
+            if (!write_config->empty()) {
+              // Every register option with its value (defaults too), so the file reproduces the
+              // run; but the preset's own values are left to the preset (written, they would count
+              // as given, and the preset would not set them when the file is read). The other
+              // subcommands' defaults stay out: the file is this run's, and read with another
+              // subcommand it changes nothing there.
               std::set<std::string> left_to_preset = {"write-config"};
               for (const PresetSetting& s : PresetSettings(flags->preset)) {
                 const CLI::Option* opt = cmd->get_option(s.flag);
@@ -148,12 +155,12 @@ Subcommand AddRegisterCommand(CLI::App* app) {
               std::string text;
               std::istringstream lines(app->config_to_str(true, false));
               for (std::string line; std::getline(lines, line);) {
-                std::string key = line.substr(0, line.find('='));  // "register.polish-iterations=6"
-                if (const size_t dot = key.rfind('.'); dot != std::string::npos) key = key.substr(dot + 1);
+                if (line.rfind("register.", 0) != 0) continue;
+                const std::string key = line.substr(9, line.find('=') - 9);  // "register.polish-iterations=6"
                 if (!left_to_preset.count(key)) text += line + "\n";
               }
-              WriteFileAtomic(*write_config, text);
-              spdlog::info("options written to {}", *write_config);
+              args->write_config = *write_config;
+              args->config_text = text;
             }
             if (options.quiet) spdlog::set_level(spdlog::level::warn);
             return RunRegister(*args);

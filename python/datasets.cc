@@ -82,7 +82,8 @@ py::dict Evaluate(const py::object& estimate, const py::object& ground_truth, co
   } else {
     gt = TrajectoryArg(ground_truth, ground_truth_timestamps, "ground_truth");
   }
-  const Trajectory est = TrajectoryArg(estimate, timestamps, "estimate");
+  Trajectory est = TrajectoryArg(estimate, timestamps, "estimate");
+  if (dataset && gt.has_timestamps) est = PlaceAtFrames(std::move(est), *dataset, "estimate");
   EvaluationResult r;
   std::optional<CorrespondenceResult> corr;
   {
@@ -122,7 +123,7 @@ py::dict Fuse(const py::object& path, const py::object& poses, const py::object&
   RequireIntrinsics(sequence);
   const Trajectory trajectory = TrajectoryArg(poses, timestamps, "poses");
   std::vector<std::optional<Rigid3d>> at;
-  if (trajectory.has_timestamps) {
+  if (trajectory.has_timestamps || !trajectory.frame_names.empty()) {  // by time, or a .conf by name
     at = PosesForFrames(sequence, trajectory, io.max_time_difference, "poses");
   } else {
     if (trajectory.size() != sequence.frames.size()) {

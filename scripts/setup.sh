@@ -15,7 +15,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libceres-dev libsuitesparse-dev libopencv-dev libnanoflann-dev libopenblas0-pthread
-  libdeflate-dev libturbojpeg0-dev libxxhash-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libtbb-dev
+  libdeflate-dev libpng-dev libturbojpeg0-dev libxxhash-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev libtinyxml2-dev
   libjs-three chromium
   clang libclang-rt-14-dev clang-format

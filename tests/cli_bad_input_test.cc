@@ -137,6 +137,21 @@ TEST(Cli, InitialTrajectoryWithoutAFrameFailsBeforeAnyWork) {
                                   "0.25 s around it\n",
                                   start.string(), truth.timestamps[2]));
   EXPECT_FALSE(fs::exists(out));
+  // Poses no hand-held camera could have followed (the truth in millimetres): refused before
+  // any work, not bent by the refinement into a wrong result.
+  Trajectory millimetres = truth;
+  for (Rigid3d& pose : millimetres.world_from_camera) pose.translation() *= 1000;
+  const fs::path mm = start.parent_path() / "mm.txt";
+  WriteTumTrajectory(mm, millimetres);
+  const Result fast = RunCli("register " + dir.string() + " --intrinsics primesense -q --initial-trajectory " +
+                             mm.string() + " -o " + out.string());
+  EXPECT_EQ(fast.code, 1);
+  const double step =
+      (millimetres.world_from_camera[1].translation() - millimetres.world_from_camera[0].translation()).norm();
+  EXPECT_EQ(fast.output, fmt::format("error: {}: the poses of frames 0 and 1 lie {:.3g} m apart, {:.3g} s apart in "
+                                     "time: faster than 10 m/s, not a hand-held camera's path (poses in metres?)\n",
+                                     mm.string(), step, truth.timestamps[1] - truth.timestamps[0]));
+  EXPECT_FALSE(fs::exists(out));
   // A dataset folder as the start needs a ground truth.
   const fs::path bare = SyntheticTum("cli_initial_bare", 3);
   fs::remove(bare / "groundtruth.txt");

@@ -9,6 +9,7 @@
 #include <regex>
 #include <sstream>
 
+#include "f2c/testing/synthetic_scene.h"
 #include "f2c/util/file.h"
 #include "tests/cli_helpers.h"
 
@@ -97,6 +98,38 @@ TEST(CliOptions, APresetSetsItsValuesButAnOptionGivenBesideItWins) {
 
 // docs/cli.md holds the reference `fine2coarse cli-reference` prints, between two markers;
 // scripts/update_cli_doc.sh rewrites it.
+// A config file says each thing once and completely: a repeated key (in one section, in a
+// repeated section, dotted at the top and again in its section), a key without a value and
+// a string or list never closed are usage errors naming the line, before anything runs.
+TEST(CliOptions, AConfigFileThatSaysAThingTwiceOrHalfIsAUsageError) {
+  const fs::path scan = SyntheticTum("config_lines", 3), dir = testing::FreshTempDir("config_lines_files");
+  const std::pair<std::string, std::string> cases[] = {
+      {"[register]\noutput = \"o/x\n", ":2: 'output': a string that is never closed"},
+      {"[register]\nseed = 1\nseed = 2\n", ":3: 'register.seed' given twice (first on line 2)"},
+      {"register.seed = 1\n[register]\nseed = 2\n", ":3: 'register.seed' given twice (first on line 1)"},
+      {"[register]\nseed = 1\n[register]\n# again\nseed = 2\n", ":5: 'register.seed' given twice (first on line 2)"},
+      {"[register]\nseed =\n", ":2: 'seed' has no value (\"\" for empty text)"},
+      {"[register]\nsequence = \"a\" b\n", ":2: 'sequence': text after the closing quote"},
+      {"[evaluate]\nalso = [\"a=b\"\n", ":2: 'also': a list that is never closed"},
+  };
+  int k = 0;
+  for (const auto& [text, message] : cases) {
+    const fs::path config = dir / ("c" + std::to_string(k++) + ".toml");
+    WriteFileAtomic(config, text);
+    const Result r = RunCli("--config " + config.string() + " register " + scan.string() + " -q -o " +
+                            (dir / "out").string() + " --intrinsics primesense --stop-after odometry");
+    EXPECT_EQ(r.code, 2) << text;
+    EXPECT_EQ(r.output, "error: " + config.string() + message + "\n");
+    EXPECT_FALSE(fs::exists(dir / "out"));
+  }
+  // Well-formed: comments after values, an empty string, a list.
+  const fs::path good = dir / "good.toml";
+  WriteFileAtomic(good, "[register]\nseed = 3  # why\nsequence = \"\"\n[evaluate]\nalso = [\"a=b\", \"c=d\"]\n");
+  const Result r = RunCli("--config " + good.string() + " register " + scan.string() + " -q -o " +
+                          (dir / "out").string() + " --intrinsics primesense --stop-after odometry --no-report");
+  EXPECT_EQ(r.code, 0) << r.output;
+}
+
 TEST(CliOptions, DocsCliMdAgreesWithTheDeclarations) {
   const Result printed = RunCli("cli-reference", " 2>/dev/null");
   ASSERT_EQ(printed.code, 0);

@@ -16,6 +16,7 @@
 #include "f2c/io/trajectory.h"
 #include "f2c/testing/synthetic_scene.h"
 #include "f2c/util/file.h"
+#include "f2c/util/text.h"
 #include "tests/cli_helpers.h"
 
 namespace f2c {
@@ -61,6 +62,22 @@ TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
       RunCli("evaluate --estimate " + (out / "trajectory.log").string() + " --ground-truth " + dir.string());
   EXPECT_EQ(log.code, 0) << log.output;
   EXPECT_NE(log.output.find("5 of 5 poses associated"), std::string::npos) << log.output;
+  // The .conf's scan lines name their frames: in reverse order they are the same estimate.
+  std::vector<std::string> header, scans;
+  for (const TextLine& line : ReadDataLines(out / "trajectory.conf")) {
+    (line.text.rfind("scan ", 0) == 0 ? scans : header).push_back(line.text);
+  }
+  ASSERT_EQ(scans.size(), 5u);
+  std::string reversed;
+  for (const std::string& line : header) reversed += line + "\n";
+  for (auto it = scans.rbegin(); it != scans.rend(); ++it) reversed += *it + "\n";
+  WriteFileAtomic(out / "reversed.conf", reversed);
+  auto ate = [&](const fs::path& estimate) {
+    const Result r = RunCli("evaluate --json --estimate " + estimate.string() + " --ground-truth " + dir.string());
+    EXPECT_EQ(r.code, 0) << r.output;
+    return nlohmann::json::parse(r.output)["ate_m"]["rmse"].get<double>();
+  };
+  EXPECT_NEAR(ate(out / "reversed.conf"), ate(out / "trajectory.txt"), 1e-6);
   // The page for the .log estimate (frame ids placed in time), with T0 beside it.
   const Result page_run = RunCli("evaluate --estimate " + (out / "trajectory.log").string() + " --ground-truth " +
                                  dir.string() + " --name final --also T0=" + (out / "trajectory_t0.txt").string() +
@@ -323,6 +340,16 @@ TEST(Cli, WriteConfigThenConfigReproducesTheRun) {
   EXPECT_NE(text.find("register.window-frames=2"), std::string::npos) << text;
   EXPECT_NE(text.find("register.sift-loops=false"), std::string::npos);
   EXPECT_NE(text.find("register.loss=\"huber\""), std::string::npos);
+  // Register's options alone: read with another subcommand, the file changes nothing there.
+  EXPECT_EQ(text.find("evaluate."), std::string::npos);
+  const Result evaluated = RunCli("--config " + config.string() + " evaluate --estimate " +
+                                  (out / "a" / "trajectory.txt").string() + " --ground-truth " + dir.string());
+  EXPECT_EQ(evaluated.code, 0) << evaluated.output;
+  // Written only for a run that can start: not for an input that cannot be read.
+  const Result missing = RunCli("register " + (out / "nothing").string() + " -q --write-config " +
+                                (out / "never.toml").string() + " -o " + (out / "c").string());
+  EXPECT_EQ(missing.code, 1);
+  EXPECT_FALSE(fs::exists(out / "never.toml"));
   // Re-run from the file into another folder.
   std::string edited = text;
   const std::string from = "register.output=\"" + (out / "a").string() + "\"";

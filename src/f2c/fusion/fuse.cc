@@ -24,12 +24,9 @@ std::vector<std::optional<Rigid3d>> PosesForFrames(const RgbdSequence& seq, cons
   const size_t n = seq.frames.size();
   std::vector<std::optional<Rigid3d>> poses(n);
   if (!t.has_timestamps) {
-    for (size_t i = 0; i < t.size(); ++i) {
-      const double id = t.timestamps[i];
-      if (!(id >= 0 && id < static_cast<double>(n))) {
-        ThrowInputError(file, fmt::format("frame id {} but the dataset has {} frames", id, n));
-      }
-      poses[static_cast<size_t>(id)] = t.world_from_camera[i];
+    const std::vector<long> frames = FramesOfPoses(t, FrameNames(seq), file);
+    for (size_t i = 0; i < frames.size(); ++i) {
+      if (frames[i] >= 0) poses[frames[i]] = t.world_from_camera[i];
     }
   } else {
     // Both sorted by time: one merge-like pass.

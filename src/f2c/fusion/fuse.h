@@ -50,8 +50,8 @@ FusionResult FuseTsdf(const RgbdSequence& sequence, const std::vector<std::optio
                       const FusionOptions& options, bool quiet);
 
 // A trajectory's poses placed on the sequence's frames: by time stamp (the nearest within
-// max_time_difference seconds) or, for files without time stamps (.log, .conf), by frame id.
-// InputError naming `file` when no frame gets a pose or a frame id is out of range.
+// max_time_difference seconds) or, for files without time stamps, by frame id (.log) or image
+// name (.conf). InputError naming `file` when no frame gets a pose or a frame id is out of range.
 std::vector<std::optional<Rigid3d>> PosesForFrames(const RgbdSequence& sequence, const Trajectory& trajectory,
                                                    double max_time_difference, const std::filesystem::path& file);
 

@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
+#include <unordered_map>
+
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
 #include "f2c/util/text.h"
@@ -11,7 +14,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-void SetDepthDecoding(const std::string& dataset, RgbdSequence* sequence) {
+// The depth decoding a dataset name selects; false for a name we do not know (a guess would
+// read depth at the wrong scale: TUM's 1/5000 m read as millimetres is 5x too far).
+bool SetDepthDecoding(std::string dataset, RgbdSequence* sequence) {
+  for (char& c : dataset) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   sequence->depth_encoding = DepthEncoding::kPlain;
   sequence->depth_scale = 0.001;
   sequence->invalid_depth_values = {0};
@@ -21,7 +27,10 @@ void SetDepthDecoding(const std::string& dataset, RgbdSequence* sequence) {
     sequence->depth_encoding = DepthEncoding::kSun3dBitRotated;
   } else if (dataset == "7scenes" || dataset == "3dmatch") {
     sequence->invalid_depth_values = {0, 65535};
+  } else if (dataset != "redwood") {
+    return false;
   }
+  return true;
 }
 
 }  // namespace
@@ -35,6 +44,7 @@ ConfFile ReadConf(const fs::path& path, double assumed_fps) {
   fs::path depth_dir = dir, image_dir = dir;
   long n_images = -1;
   bool have_dataset = false;
+  std::unordered_map<std::string, long> line_of_depth;  // a frame named twice is ambiguous
   for (const TextLine& line : ReadDataLines(path)) {
     const auto tokens = SplitWhitespace(line.text);
     if (tokens.empty()) continue;  // ReadDataLines keeps none such; a reader must not trust that
@@ -46,7 +56,12 @@ ConfFile ReadConf(const fs::path& path, double assumed_fps) {
     };
     if (key == "dataset") {
       need(2, "one name");
-      SetDepthDecoding(tokens[1], &seq);
+      if (!SetDepthDecoding(tokens[1], &seq)) {
+        ThrowInputError(path, line.number,
+                        fmt::format("unknown dataset '{}' (expected tum, sun3d, 7scenes, 3dmatch or redwood: it "
+                                    "selects how depth is decoded)",
+                                    tokens[1]));
+      }
       have_dataset = true;
     } else if (key == "intrinsics") {
       need(2, "one file name");
@@ -79,8 +94,14 @@ ConfFile ReadConf(const fs::path& path, double assumed_fps) {
       const auto v = ParseDoublesOrThrow(tokens, 3, path, line.number, "16 matrix numbers");
       Eigen::Matrix4d m;
       for (int i = 0; i < 16; ++i) m(i / 4, i % 4) = v[i];
+      const auto [named, first] = line_of_depth.emplace(tokens[1], line.number);
+      if (!first) {
+        ThrowInputError(path, line.number,
+                        fmt::format("scan line names depth image '{}' again (line {})", tokens[1], named->second));
+      }
       const int index = static_cast<int>(seq.frames.size());
       conf.trajectory.Add(index, RigidFromMatrixOrThrow(m, path, line.number));
+      conf.trajectory.frame_names.push_back(tokens[1]);
       RgbdFrame frame;
       frame.timestamp = index / assumed_fps;
       frame.depth_path = depth_dir / tokens[1];

@@ -42,7 +42,7 @@ bool LooksLikeRgbdImage(std::string_view b) {
 
 // OpenCV's decoders (opencv_codecs.cc), loaded at their first use: from the build folder, or
 // from beside the running program. Null when neither is there.
-using OpenCvDecode = int (*)(const unsigned char*, size_t, int, cv::Mat*);
+using OpenCvDecode = int (*)(const unsigned char*, size_t, int, cv::Mat*, char*, size_t);
 OpenCvDecode OpenCvDecoder() {
   static const OpenCvDecode decode = []() -> OpenCvDecode {
     std::vector<std::string> candidates = {F2C_OPENCV_CODECS_PATH};
@@ -71,6 +71,7 @@ cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags) {
   cv::Mat image;
   std::string problem;
   DecodeStatus status = DecodePng(bytes, AsPngRequest(flags), &image, &problem);
+  if (status == DecodeStatus::kNotHandled) status = DecodePngWithLibpng(bytes, AsPngRequest(flags), &image, &problem);
   if (status == DecodeStatus::kNotHandled && (flags == cv::IMREAD_COLOR || flags == cv::IMREAD_GRAYSCALE)) {
     status = DecodeJpeg(bytes, flags == cv::IMREAD_GRAYSCALE, &image, &problem);
   }
@@ -85,8 +86,11 @@ cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags) {
     ThrowInputError(path, std::string("this kind of image needs OpenCV's decoders, and ") + F2C_OPENCV_CODECS_NAME +
                               " was found neither in the build folder nor beside the program");
   }
-  if (!decode(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), flags, &image)) {
-    ThrowInputError(path, "cannot decode image (corrupt or not an image)");
+  char reason[256] = {};
+  if (!decode(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), flags, &image, reason,
+              sizeof(reason))) {
+    ThrowInputError(path, reason[0] != '\0' ? std::string("corrupt image: ") + reason
+                                            : std::string("cannot decode image (corrupt or not an image)"));
   }
   return image;
 }

@@ -2,7 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
 #include <functional>
+#include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -86,6 +91,76 @@ TEST(LoadDepthMeters, CorruptAndMissingFiles) {
   fs::remove(f.frame.depth_path);
   EXPECT_EQ(testing::InputErrorMessage([&] { LoadDepthMeters(f.seq, f.frame); }),
             f.frame.depth_path.string() + ": missing frame image");
+}
+
+// Everything fd 2 receives while it lives (libpng and OpenCV write there directly).
+class StderrCapture {
+ public:
+  explicit StderrCapture(const fs::path& file) : file_(file) {
+    std::fflush(stderr);
+    saved_ = ::dup(2);
+    const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(fd, 2);
+    ::close(fd);
+  }
+  std::string Text() {
+    std::fflush(stderr);
+    std::cerr.flush();
+    ::dup2(saved_, 2);
+    return ReadFileToString(file_);
+  }
+  ~StderrCapture() { ::close(saved_); }
+
+ private:
+  fs::path file_;
+  int saved_ = -1;
+};
+
+std::string Cut(const std::vector<uchar>& bytes, double share) {
+  return std::string(bytes.begin(), bytes.begin() + static_cast<long>(bytes.size() * share));
+}
+
+// Damaged images of the kinds libpng and OpenCV decode (palette, 16-bit colour, unknown
+// critical chunks, BMP, PNM, TIFF, EXIF JPEG): one error line of ours, nothing of theirs.
+TEST(DecodeImageFile, DamagedRareKindsAreOneLineAndNothingOnStderr) {
+  const fs::path dir = testing::FreshTempDir("img_rare");
+  cv::Mat noise(48, 64, CV_16UC3);
+  cv::randu(noise, 0, 65535);
+  std::vector<uchar> png16, png8, bmp, pgm, tiff, jpeg;
+  cv::imencode(".png", noise, png16);
+  cv::Mat noise8;
+  noise.convertTo(noise8, CV_8U, 1.0 / 256);
+  cv::imencode(".png", noise8, png8);
+  cv::imencode(".bmp", noise8, bmp);
+  cv::Mat grey;
+  cv::cvtColor(noise8, grey, cv::COLOR_BGR2GRAY);
+  cv::imencode(".pgm", grey, pgm);
+  cv::imencode(".tiff", noise8, tiff);
+  cv::imencode(".jpg", noise8, jpeg);
+  std::string critical(png8.begin(), png8.begin() + 33);  // signature and IHDR
+  critical += std::string("\0\0\0\3ABCDxyz\x22\x6a\x84\x52", 15);
+  critical += std::string(png8.begin() + 33, png8.end());
+  const std::string exif = std::string(
+                               "\xFF\xD8\xFF\xE1\x00\x10"
+                               "Exif\0\0",
+                               12) +
+                           std::string(8, '\0') + std::string(jpeg.begin() + 2, jpeg.end());
+  const std::pair<std::string, std::string> cases[] = {
+      {Cut(png16, 0.5), "corrupt PNG: the IDAT chunk is cut short"},
+      {critical, "corrupt PNG: ABCD: unhandled critical chunk"},
+      {Cut(bmp, 0.5), "corrupt image: Unexpected end of input stream"},
+      {Cut(pgm, 0.5), "corrupt image: Unexpected end of input stream"},
+      {Cut(tiff, 0.5), "cannot decode image (corrupt or not an image)"},
+      {exif.substr(0, exif.size() / 2), "corrupt JPEG: Premature end of JPEG file"},
+  };
+  for (const auto& [bytes, message] : cases) {
+    const fs::path path = dir / "frame";
+    WriteFileAtomic(path, bytes);
+    StderrCapture capture(dir / "stderr.txt");
+    const std::string error = testing::InputErrorMessage([&] { DecodeImageFile(path, cv::IMREAD_COLOR); });
+    EXPECT_EQ(capture.Text(), "") << message;
+    EXPECT_EQ(error, path.string() + ": " + message);
+  }
 }
 
 TEST(LoadDepthMeters, SizeMustMatchIntrinsics) {

@@ -13,11 +13,11 @@
 
 namespace f2c {
 
-// Decodes a baseline or progressive YCbCr, RGB or grey JPEG into 8-bit BGR, or its
-// luminance into 8-bit grey (`grey`; as OpenCV's IMREAD_GRAYSCALE). kNotHandled, with *out
-// untouched, for anything else (not a JPEG, CMYK, an EXIF orientation OpenCV would apply,
-// a header TurboJPEG cannot read). kCorrupt when the stream is damaged or cut short, even
-// where libjpeg would carry on with a warning and a partly grey image.
+// Decodes a baseline or progressive YCbCr, RGB, grey, CMYK or YCCK JPEG into 8-bit BGR, or
+// its luminance into 8-bit grey (`grey`; as OpenCV's IMREAD_GRAYSCALE), turned as its EXIF
+// orientation says (as OpenCV does for both). kNotHandled, with *out untouched, for anything
+// else (not a JPEG, a header TurboJPEG cannot read). kCorrupt when the stream is damaged or
+// cut short, even where libjpeg would carry on with a warning and a partly grey image.
 DecodeStatus DecodeJpeg(std::string_view bytes, bool grey, cv::Mat* out, std::string* problem = nullptr);
 
 }  // namespace f2c

@@ -89,24 +89,66 @@ TEST(DecodeJpeg, EqualsOpenCvOnRealFrames) {
   }
 }
 
-TEST(DecodeJpeg, LeavesExifToOpenCvAndSaysWhenCutShort) {
+// An EXIF segment right after SOI whose IFD0 holds the orientation tag.
+std::string WithExifOrientation(const std::string& jpeg, int orientation, bool little_endian) {
+  std::string tiff = little_endian ? std::string("II\x2a\0\x08\0\0\0", 8) : std::string("MM\0\x2a\0\0\0\x08", 8);
+  auto u16 = [&](int v) {
+    return little_endian ? std::string{static_cast<char>(v & 255), static_cast<char>(v >> 8)}
+                         : std::string{static_cast<char>(v >> 8), static_cast<char>(v & 255)};
+  };
+  tiff += u16(1);  // one entry
+  tiff += u16(0x0112) + u16(3) + (little_endian ? std::string("\1\0\0\0", 4) : std::string("\0\0\0\1", 4));
+  tiff += u16(orientation) + u16(0);
+  tiff += std::string(4, '\0');  // no next IFD
+  const std::string body = std::string("Exif\0\0", 6) + tiff;
+  const size_t length = body.size() + 2;
+  const std::string app1 = std::string("\xFF\xE1") + static_cast<char>(length >> 8) + static_cast<char>(length & 255);
+  return jpeg.substr(0, 2) + app1 + body + jpeg.substr(2);
+}
+
+TEST(DecodeJpeg, TurnsByExifOrientationAsOpenCvAndSaysWhenCutShort) {
   const std::string jpeg = Encode(JpegTestImage(CV_8UC3, 9), {});
   cv::Mat out;
   ASSERT_EQ(DecodeJpeg(jpeg, false, &out), DecodeStatus::kDecoded);
   const cv::Mat decoded = out;
-  // An EXIF segment (OpenCV would apply its orientation): right after SOI.
-  const std::string exif = std::string(
-                               "\xFF\xE1\x00\x10"
-                               "Exif\0\0",
-                               10) +
-                           std::string(8, '\0');
-  EXPECT_EQ(DecodeJpeg(jpeg.substr(0, 2) + exif + jpeg.substr(2), false, &out), DecodeStatus::kNotHandled);
+  for (int orientation = 1; orientation <= 8; ++orientation) {
+    for (bool little : {true, false}) {
+      const std::string turned = WithExifOrientation(jpeg, orientation, little);
+      ExpectSameAsOpenCv(turned, "orientation " + std::to_string(orientation));
+      cv::Mat image;
+      ASSERT_EQ(DecodeJpeg(turned, false, &image), DecodeStatus::kDecoded);
+      EXPECT_EQ(image.rows, orientation >= 5 ? decoded.cols : decoded.rows) << orientation;
+    }
+  }
   EXPECT_EQ(DecodeJpeg("\x89PNG\r\n\x1a\n", true, &out), DecodeStatus::kNotHandled);
-  // Cut short: libjpeg alone would fill the rest with grey and only warn.
+  // Cut short: libjpeg alone would fill the rest with grey and only warn (OpenCV reads an
+  // EXIF JPEG cut short so, without a word).
   std::string problem;
   EXPECT_EQ(DecodeJpeg(jpeg.substr(0, jpeg.size() / 2), true, &out, &problem), DecodeStatus::kCorrupt);
   EXPECT_EQ(problem, "corrupt JPEG: Premature end of JPEG file");
+  const std::string exif = WithExifOrientation(jpeg, 6, true);
+  EXPECT_EQ(DecodeJpeg(exif.substr(0, exif.size() / 2), false, &out, &problem), DecodeStatus::kCorrupt);
   EXPECT_EQ(out.data, decoded.data);  // untouched by the failures
+}
+
+// CMYK (YCCK as TurboJPEG writes it from CMYK pixels): decoded like OpenCV, and a file cut
+// short is damage like any other JPEG (OpenCV would hand back the grey-filled rest).
+TEST(DecodeJpeg, CmykEqualsOpenCvAndSaysWhenCutShort) {
+  const cv::Mat cmyk = JpegTestImage(CV_8UC4, 11);
+  tjhandle h = tjInitCompress();
+  unsigned char* buffer = nullptr;
+  unsigned long size = 0;
+  ASSERT_EQ(tjCompress2(h, cmyk.data, cmyk.cols, static_cast<int>(cmyk.step[0]), cmyk.rows, TJPF_CMYK, &buffer, &size,
+                        TJSAMP_444, 90, 0),
+            0);
+  const std::string jpeg(reinterpret_cast<char*>(buffer), size);
+  tjFree(buffer);
+  tjDestroy(h);
+  ExpectSameAsOpenCv(jpeg, "cmyk");
+  cv::Mat out;
+  std::string problem;
+  EXPECT_EQ(DecodeJpeg(jpeg.substr(0, jpeg.size() * 2 / 3), false, &out, &problem), DecodeStatus::kCorrupt);
+  EXPECT_EQ(problem, "corrupt JPEG: Premature end of JPEG file");
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 #include <libdeflate.h>
+#include <png.h>
 
 #include <opencv2/imgcodecs.hpp>
 #include <random>
@@ -215,6 +216,123 @@ TEST(DecodePng, SaysHowADamagedFileIsDamaged) {
   std::string text = HandMadePng(rgb, 1);
   text[text.find("Comment") + 2] ^= 1;
   EXPECT_EQ(DecodePng(text, PngRequest::kGray, &out), DecodeStatus::kNotHandled);
+}
+
+// A PNG written by libpng: `samples` holds each row's samples (palette indices, grey levels,
+// or R G B [A] in the file's order), `bit_depth` bits each, packed as the format packs them.
+struct LibpngKind {
+  const char* name;
+  int bit_depth, color_type, interlace;
+  bool transparency;
+};
+
+std::string WriteWithLibpng(const LibpngKind& kind, int width, int height, uint32_t seed) {
+  const int channels = kind.color_type == PNG_COLOR_TYPE_RGB          ? 3
+                       : kind.color_type == PNG_COLOR_TYPE_RGB_ALPHA  ? 4
+                       : kind.color_type == PNG_COLOR_TYPE_GRAY_ALPHA ? 2
+                                                                      : 1;
+  const int max = (1 << kind.bit_depth) - 1;
+  std::mt19937 rng(seed);
+  const size_t row_bytes = (static_cast<size_t>(width) * channels * kind.bit_depth + 7) / 8;
+  std::vector<std::vector<png_byte>> rows(height, std::vector<png_byte>(row_bytes, 0));
+  for (int y = 0; y < height; ++y) {
+    for (int i = 0; i < width * channels; ++i) {
+      const int v = ((i * 7 + y * 3) * max / (width * channels + height * 2) + static_cast<int>(rng() % 3)) % (max + 1);
+      if (kind.bit_depth == 16) {
+        rows[y][2 * i] = static_cast<png_byte>(v >> 8), rows[y][2 * i + 1] = static_cast<png_byte>(v & 255);
+      } else {
+        const int bit = i * kind.bit_depth;
+        rows[y][bit / 8] |= static_cast<png_byte>(v << (8 - kind.bit_depth - bit % 8));
+      }
+    }
+  }
+  std::string out;
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png_create_info_struct(png);
+  png_set_write_fn(
+      png, &out,
+      [](png_structp p, png_bytep data, size_t n) {
+        static_cast<std::string*>(png_get_io_ptr(p))->append(reinterpret_cast<char*>(data), n);
+      },
+      nullptr);
+  png_set_IHDR(png, info, width, height, kind.bit_depth, kind.color_type, kind.interlace, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  std::vector<png_color> palette(max + 1);
+  std::vector<png_byte> alpha(max + 1);
+  if (kind.color_type == PNG_COLOR_TYPE_PALETTE) {
+    for (int i = 0; i <= max; ++i) {
+      palette[i] = {static_cast<png_byte>(rng()), static_cast<png_byte>(rng()), static_cast<png_byte>(rng())};
+      alpha[i] = static_cast<png_byte>(rng());
+    }
+    png_set_PLTE(png, info, palette.data(), max + 1);
+    if (kind.transparency) png_set_tRNS(png, info, alpha.data(), max + 1, nullptr);
+  } else if (kind.transparency) {
+    png_color_16 key{};
+    key.gray = key.red = key.green = key.blue = static_cast<png_uint_16>(max / 2);
+    png_set_tRNS(png, info, nullptr, 0, &key);
+  }
+  std::vector<png_bytep> pointers;
+  for (auto& row : rows) pointers.push_back(row.data());
+  png_set_rows(png, info, pointers.data());
+  png_write_png(png, info, PNG_TRANSFORM_IDENTITY, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return out;
+}
+
+const LibpngKind kLibpngKinds[] = {
+    {"palette 8-bit", 8, PNG_COLOR_TYPE_PALETTE, PNG_INTERLACE_NONE, false},
+    {"palette 4-bit, transparency", 4, PNG_COLOR_TYPE_PALETTE, PNG_INTERLACE_NONE, true},
+    {"palette 2-bit, interlaced", 2, PNG_COLOR_TYPE_PALETTE, PNG_INTERLACE_ADAM7, false},
+    {"RGB 8-bit, interlaced", 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_ADAM7, false},
+    {"RGB 16-bit", 16, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, false},
+    {"RGB 8-bit, transparent colour", 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, true},
+    {"RGBA 16-bit, interlaced", 16, PNG_COLOR_TYPE_RGB_ALPHA, PNG_INTERLACE_ADAM7, false},
+    {"grey 1-bit", 1, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, false},
+    {"grey 2-bit, interlaced", 2, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_ADAM7, false},
+    {"grey 4-bit, transparent level", 4, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, true},
+    {"grey 16-bit, interlaced", 16, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_ADAM7, false},
+    {"grey and alpha 8-bit", 8, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_INTERLACE_NONE, false},
+};
+
+// The kinds the fast path leaves: the same pixels as OpenCV's imdecode for every request.
+TEST(DecodePngWithLibpng, EqualsOpenCvForEveryKindAndRequest) {
+  for (const LibpngKind& kind : kLibpngKinds) {
+    const std::string png = WriteWithLibpng(kind, 45, 31, kind.bit_depth * 10 + kind.color_type);
+    for (const Case& c : kCases) {
+      SCOPED_TRACE(std::string(kind.name) + ", flags " + std::to_string(c.flags));
+      cv::Mat ours;
+      std::string problem;
+      ASSERT_EQ(DecodePngWithLibpng(png, c.request, &ours, &problem), DecodeStatus::kDecoded) << problem;
+      ExpectSame(ours, OpenCv(png, c.flags));
+    }
+  }
+}
+
+// Damage is kCorrupt with libpng's reason (which libpng would otherwise print to stderr).
+TEST(DecodePngWithLibpng, SaysHowADamagedFileIsDamaged) {
+  const std::string palette = WriteWithLibpng(kLibpngKinds[0], 45, 31, 1);
+  const std::string interlaced = WriteWithLibpng(kLibpngKinds[3], 45, 31, 2);
+  auto problem = [](const std::string& bytes) {
+    cv::Mat out;
+    std::string what;
+    EXPECT_EQ(DecodePngWithLibpng(bytes, PngRequest::kBgr, &out, &what), DecodeStatus::kCorrupt);
+    EXPECT_TRUE(out.empty());
+    return what;
+  };
+  EXPECT_EQ(problem(palette.substr(0, palette.size() * 2 / 3)), "corrupt PNG: cut short");
+  EXPECT_EQ(problem(interlaced.substr(0, interlaced.size() / 2)), "corrupt PNG: cut short");
+  std::string sixteen_bit_palette = palette;
+  sixteen_bit_palette[24] = 16;  // IHDR's bit depth, its checksum made right again
+  const size_t ihdr = 8;
+  const uint32_t crc = libdeflate_crc32(0, sixteen_bit_palette.data() + ihdr + 4, 17);
+  for (int i = 0; i < 4; ++i) sixteen_bit_palette[ihdr + 21 + i] = static_cast<char>(crc >> (24 - 8 * i));
+  EXPECT_EQ(problem(sixteen_bit_palette), "corrupt PNG: Invalid IHDR data");
+  std::string critical = palette.substr(0, 33);
+  PutChunk(&critical, "ABCD", "xyz");
+  critical += palette.substr(33);
+  EXPECT_EQ(problem(critical), "corrupt PNG: ABCD: unhandled critical chunk");
+  cv::Mat out;
+  EXPECT_EQ(DecodePngWithLibpng("\xff\xd8\xff\xe0 not a png", PngRequest::kGray, &out), DecodeStatus::kNotHandled);
 }
 
 }  // namespace

@@ -140,6 +140,7 @@ RgbdSequence ReadSequence(const fs::path& path, const IoOptions& options) {
       for (size_t i = 0; i < conf.trajectory.size(); ++i) {
         conf.trajectory.timestamps[i] = sequence.frames[i].timestamp;
       }
+      conf.trajectory.frame_names.clear();  // placed in time: its own frames
       sequence.ground_truth = std::move(conf.trajectory);
       sequence.ground_truth_source = conf_path;
       break;
@@ -192,6 +193,23 @@ std::string CacheContext(const RgbdSequence& seq, const std::string& options_jso
   context += fmt::format("|depth {:.17g} {} {}", seq.depth_scale, static_cast<int>(seq.depth_encoding),
                          fmt::join(seq.invalid_depth_values, ","));
   return context;
+}
+
+std::vector<std::string> FrameNames(const RgbdSequence& sequence) {
+  std::vector<std::string> names;
+  names.reserve(sequence.frames.size());
+  for (const RgbdFrame& f : sequence.frames) names.push_back(f.name);
+  return names;
+}
+
+Trajectory PlaceAtFrames(Trajectory trajectory, const RgbdSequence& sequence, const fs::path& path) {
+  if (trajectory.has_timestamps) return trajectory;
+  const std::vector<long> frames = FramesOfPoses(trajectory, FrameNames(sequence), path);
+  Trajectory placed;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    if (frames[i] >= 0) placed.Add(sequence.frames[frames[i]].timestamp, trajectory.world_from_camera[i]);
+  }
+  return placed;
 }
 
 Trajectory LoadGroundTruth(const fs::path& path, IoOptions io, std::optional<RgbdSequence>* dataset) {

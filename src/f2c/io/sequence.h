@@ -93,6 +93,14 @@ RgbdSequence ReadSequence(const std::filesystem::path& path, const IoOptions& op
 // report). InputError naming `path` when a dataset has none.
 Trajectory LoadGroundTruth(const std::filesystem::path& path, IoOptions io, std::optional<RgbdSequence>* dataset);
 
+// A trajectory without time stamps (.log by frame id, .conf by image name: FramesOfPoses)
+// placed at the times of the sequence's frames; poses of frames the sequence does not hold
+// are left out. A trajectory with time stamps is returned as it is.
+Trajectory PlaceAtFrames(Trajectory trajectory, const RgbdSequence& sequence, const std::filesystem::path& path);
+
+// The names of the sequence's frames (RgbdFrame::name), in order.
+std::vector<std::string> FrameNames(const RgbdSequence& sequence);
+
 // The layout of `path`, or InputError("<path>: unknown dataset layout ...").
 DatasetLayout DetectLayout(const std::filesystem::path& path);
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 
 #include <Eigen/Geometry>
 
@@ -61,6 +62,22 @@ Trajectory ReadLogTrajectory(const std::filesystem::path& path) {
     if (header.size() != 3 || !ParseInt(header[0], &id) || !ParseInt(header[1], &j) || !ParseInt(header[2], &n)) {
       ThrowInputError(path, lines[b].number, "expected a block header 'i j n' of three integers");
     }
+    // One block per frame, numbered in order: a repeated id is a pair file (3DMatch's gt.log)
+    // or a pasted block, a gap a frame without its pose; either would place poses wrongly.
+    if (id < 0) ThrowInputError(path, lines[b].number, fmt::format("frame id {} is negative", id));
+    if (!trajectory.empty()) {
+      const long previous = static_cast<long>(trajectory.timestamps.back());
+      if (id <= previous) {
+        ThrowInputError(path, lines[b].number,
+                        fmt::format("frame id {} after {} (one block per frame, ids in order; a file of "
+                                    "frame pairs is not a trajectory)",
+                                    id, previous));
+      }
+      if (id != previous + 1) {
+        ThrowInputError(path, lines[b].number,
+                        fmt::format("frame id {} after {}: frame {} has no pose", id, previous, previous + 1));
+      }
+    }
     Eigen::Matrix4d m;
     for (int r = 0; r < 4; ++r) {
       const TextLine& row = lines[b + 1 + r];
@@ -96,18 +113,65 @@ Trajectory ReadTrajectoryFile(const std::filesystem::path& path) {
   return ReadTumTrajectory(path);
 }
 
+std::vector<long> FramesOfPoses(const Trajectory& trajectory, const std::vector<std::string>& frame_names,
+                                const std::filesystem::path& path) {
+  F2C_CHECK(!trajectory.has_timestamps, "poses without time stamps");
+  const long n = static_cast<long>(frame_names.size());
+  std::vector<long> frames(trajectory.size(), -1);
+  if (trajectory.frame_names.empty()) {
+    for (size_t i = 0; i < trajectory.size(); ++i) {
+      const double id = trajectory.timestamps[i];
+      if (!(id >= 0 && id < static_cast<double>(n))) {
+        ThrowInputError(path, fmt::format("frame id {} but the dataset has {} frames", id, n));
+      }
+      frames[i] = static_cast<long>(id);
+    }
+    return frames;
+  }
+  F2C_CHECK(trajectory.frame_names.size() == trajectory.size(), "one name per pose");
+  std::unordered_map<std::string, long> frame_of_name;
+  for (long k = 0; k < n; ++k) {
+    if (!frame_of_name.emplace(frame_names[k], k).second) {
+      ThrowInputError(path, fmt::format("its poses name their frames, but frames {} and {} of the dataset are both "
+                                        "named '{}'",
+                                        frame_of_name[frame_names[k]], k, frame_names[k]));
+    }
+  }
+  bool any = false;
+  for (size_t i = 0; i < trajectory.size(); ++i) {
+    const auto it = frame_of_name.find(trajectory.frame_names[i]);
+    if (it != frame_of_name.end()) frames[i] = it->second, any = true;
+  }
+  if (!any && n > 0) {
+    ThrowInputError(path, fmt::format("none of its {} poses names a frame of the dataset (its first: '{}', the "
+                                      "dataset's first: '{}')",
+                                      trajectory.size(), trajectory.frame_names[0], frame_names[0]));
+  }
+  return frames;
+}
+
 std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> PosesForFrames(const Trajectory& trajectory,
                                                                        const std::vector<double>& frame_times,
+                                                                       const std::vector<std::string>& frame_names,
                                                                        const std::filesystem::path& path,
                                                                        double max_difference, double max_span) {
   const size_t n = frame_times.size();
   if (!trajectory.has_timestamps) {
-    if (trajectory.size() != n) {
-      ThrowInputError(path, fmt::format("{} poses for {} frames (a file without time stamps needs one pose per frame, "
-                                        "in order)",
-                                        trajectory.size(), n));
+    F2C_CHECK(frame_names.size() == n, "one name per frame");
+    const std::vector<long> frame_of_pose = FramesOfPoses(trajectory, frame_names, path);
+    std::vector<long> pose_of_frame(n, -1);
+    for (size_t i = 0; i < frame_of_pose.size(); ++i) {
+      if (frame_of_pose[i] >= 0) pose_of_frame[frame_of_pose[i]] = static_cast<long>(i);
     }
-    return trajectory.world_from_camera;
+    std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> poses;
+    poses.reserve(n);
+    for (size_t f = 0; f < n; ++f) {
+      if (pose_of_frame[f] < 0) {
+        ThrowInputError(path, fmt::format("no pose for frame {} ('{}')", f, frame_names[f]));
+      }
+      poses.push_back(trajectory.world_from_camera[pose_of_frame[f]]);
+    }
+    return poses;
   }
   // Time stamps in any order: sorted once, then a binary search per frame.
   std::vector<size_t> order(trajectory.size());

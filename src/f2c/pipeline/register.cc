@@ -232,7 +232,19 @@ PoseList PosesFor(const RgbdSequence& sequence, const fs::path& source, const Io
   // A dataset folder gives its ground truth; a file (.conf too) is read as a trajectory.
   const Trajectory given =
       fs::is_directory(source) ? LoadGroundTruth(source, io, &dataset) : ReadTrajectoryFile(source);
-  return PosesForFrames(given, times, source);
+  PoseList poses = PosesForFrames(given, times, FrameNames(sequence), source);
+  for (size_t k = 1; k < poses.size(); ++k) {
+    const double distance = (poses[k].translation() - poses[k - 1].translation()).norm();
+    // Frames closer in time than 1/100 s are taken as 1/100 s apart (time stamps of layouts
+    // that have none are frame / fps).
+    const double seconds = std::max(times[k] - times[k - 1], 0.01);
+    if (distance / seconds > kMaxInitialSpeed) {
+      ThrowInputError(source, fmt::format("the poses of frames {} and {} lie {:.3g} m apart, {:.3g} s apart in time: "
+                                          "faster than {:g} m/s, not a hand-held camera's path (poses in metres?)",
+                                          k - 1, k, distance, times[k] - times[k - 1], kMaxInitialSpeed));
+    }
+  }
+  return poses;
 }
 
 }  // namespace f2c

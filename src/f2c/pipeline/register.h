@@ -106,9 +106,12 @@ RegisterResult Register(RgbdSequence sequence, const RegisterOptions& options);
 // The same on a dataset folder or .conf, read with `io`.
 RegisterResult Register(const std::filesystem::path& input, const IoOptions& io, const RegisterOptions& options);
 
-// The poses of `source` (a trajectory file: TUM by time stamp, .log or .conf in order; or a
-// dataset folder's ground truth) for each frame of `sequence`; InputError naming `source`
-// when a frame has none.
+// The poses of `source` (a trajectory file: TUM by time stamp, .log by frame id, .conf by
+// image name; or a dataset folder's ground truth) for each frame of `sequence`; InputError
+// naming `source` when a frame has none, or when two consecutive frames' poses are further
+// apart than a camera carried by hand moves (kMaxInitialSpeed: poses in millimetres, or not
+// of this sequence, which the refinement would only bend into a wrong result).
+constexpr double kMaxInitialSpeed = 10.0;  // m/s; hand-held cameras move at 0.1-1 m/s
 PoseList PosesFor(const RgbdSequence& sequence, const std::filesystem::path& source, const IoOptions& io);
 
 }  // namespace f2c
