@@ -82,6 +82,7 @@ struct SimulateArgs {
   sim::SimulateOptions options;  // --scene, --frames, --seed, --correspondences, --depth-distortion
   bool exact = false;            // no sensor noise
   bool quiet = false;
+  bool overwrite = false;  // replace the scan in a folder that holds one
 };
 int RunSimulate(const SimulateArgs& args);
 

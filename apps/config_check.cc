@@ -65,7 +65,8 @@ void CheckConfigFile(const std::filesystem::path& path) {
     if (line.empty() || line[0] == '#' || line[0] == ';') continue;
     if (line[0] == '[') {
       const size_t close = line.find(']');
-      if (close != std::string::npos) section = Trim(line.substr(line.rfind('[', close) + 1, close - line.rfind('[', close) - 1));
+      if (close != std::string::npos)
+        section = Trim(line.substr(line.rfind('[', close) + 1, close - line.rfind('[', close) - 1));
       continue;
     }
     const size_t eq = line.find('=');

@@ -38,7 +38,13 @@ Trajectory LoadEstimate(const fs::path& path, const Trajectory& gt, const std::o
   return PlaceAtFrames(std::move(est), *dataset, path);
 }
 
+// A row with nothing measured (no pair spans the interval, no pose associated) says n/a: a
+// 0.0000 would read as a perfect result.
 void PrintStatsRow(const char* name, const char* unit, const ErrorStatistics& s) {
+  if (s.count == 0) {
+    std::printf("%-24s %-4s %9s %9s %9s %9s %9s %9s %6d\n", name, unit, "n/a", "n/a", "n/a", "n/a", "n/a", "n/a", 0);
+    return;
+  }
   std::printf("%-24s %-4s %9.4f %9.4f %9.4f %9.4f %9.4f %9.4f %6d\n", name, unit, s.rmse, s.mean, s.median, s.std,
               s.min, s.max, s.count);
 }

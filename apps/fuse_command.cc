@@ -7,6 +7,7 @@
 
 #include "apps/commands.h"
 #include "apps/fields_cli.h"
+#include "f2c/io/image.h"
 #include "f2c/io/image_write.h"
 #include "f2c/report/mesh_views.h"
 #include "f2c/util/error.h"
@@ -24,6 +25,7 @@ int RunFuse(const FuseArgs& args) {
   if (out.extension() != ".ply") ThrowInputError(out, "the mesh is written as PLY: give a .ply file");
   const RgbdSequence seq = ReadSequence(args.input, args.io);  // the inputs first: no folder left behind
   RequireIntrinsics(seq);
+  RequireSomeValidDepth(seq);
   const Trajectory trajectory = ReadTrajectoryFile(args.trajectory);
   const OutputFolder output_folder(out.parent_path().empty() ? fs::path(".") : out.parent_path());
   const auto poses = PosesForFrames(seq, trajectory, args.io.max_time_difference, args.trajectory);

@@ -109,9 +109,8 @@ Subcommand AddRegisterCommand(CLI::App* app) {
                   "write this run's options (all of them) to FILE as TOML, for --config")
       ->group("Output");
   cmd->add_option("--initial-trajectory", args->initial_trajectory,
-                  "refine from these poses instead of T0: a trajectory (TUM by time stamp, .log or .conf in order), or "
-                  "a dataset "
-                  "folder's ground truth")
+                  "refine from these poses instead of T0: a trajectory (TUM by time stamp, .log by frame id, .conf by "
+                  "image name), or a dataset folder's ground truth")
       ->type_name("FILE")
       ->group("Refinement: windows (paper 4.2)");
   cmd->add_flag("--save-iterations", args->save_iterations,

@@ -21,7 +21,7 @@ int RunSimulate(const SimulateArgs& args) {
     options.sensor.radial_distortion = args.options.sensor.radial_distortion;
   }
   Timer timer;
-  const Trajectory poses = sim::Simulate(args.output, options, args.quiet);
+  const Trajectory poses = sim::Simulate(args.output, options, args.quiet, args.overwrite);
   double path = 0;
   for (size_t i = 1; i < poses.size(); ++i) {
     path += (poses.world_from_camera[i].translation() - poses.world_from_camera[i - 1].translation()).norm();
@@ -46,6 +46,7 @@ int RunDemo(const DemoArgs& args) {
   sim_args.options.scene = "apartment";
   sim_args.options.walk.frames = args.frames;
   sim_args.options.seed = args.seed;
+  sim_args.overwrite = true;  // the demo's own folder: a second demo replaces the first
   RunSimulate(sim_args);
   RegisterArgs reg;
   reg.input = sim_args.output;
@@ -73,6 +74,9 @@ Subcommand AddSimulateCommand(CLI::App* app) {
   cmd->add_option("-o,--output", args->output, "output folder")->required();
   AddFieldFlags(cmd, &args->options);  // sim/simulate.h
   cmd->add_flag("--exact", args->exact, "no sensor noise, holes or blur");
+  cmd->add_flag("--overwrite", args->overwrite,
+                "replace the simulated scan in a folder that holds one (without it, a folder that is not empty is "
+                "an error)");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress output");
 
   return {cmd, [args] {

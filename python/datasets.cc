@@ -121,6 +121,7 @@ py::dict Fuse(const py::object& path, const py::object& poses, const py::object&
   fusion.Check();
   const RgbdSequence sequence = ReadSequence(input, io);
   RequireIntrinsics(sequence);
+  RequireSomeValidDepth(sequence);
   const Trajectory trajectory = TrajectoryArg(poses, timestamps, "poses");
   std::vector<std::optional<Rigid3d>> at;
   if (trajectory.has_timestamps || !trajectory.frame_names.empty()) {  // by time, or a .conf by name
@@ -142,7 +143,7 @@ py::dict Fuse(const py::object& path, const py::object& poses, const py::object&
 }
 
 py::array_t<double> Simulate(const std::string& scene, int frames, uint64_t seed, const py::object& out,
-                             int correspondences) {
+                             int correspondences, bool overwrite) {
   const fs::path dir = PathArg(out, "out", false);
   sim::SimulateOptions options;
   options.scene = scene;
@@ -153,7 +154,7 @@ py::array_t<double> Simulate(const std::string& scene, int frames, uint64_t seed
   Trajectory truth;
   {
     py::gil_scoped_release release;
-    truth = sim::Simulate(dir, options, true);
+    truth = sim::Simulate(dir, options, true, overwrite);
   }
   return PoseArray(truth.world_from_camera);
 }

@@ -35,6 +35,6 @@ py::dict Fuse(const py::object& path, const py::object& poses, const py::object&
               const py::kwargs& kwargs);
 
 py::array_t<double> Simulate(const std::string& scene, int frames, uint64_t seed, const py::object& out,
-                             int correspondences);
+                             int correspondences, bool overwrite);
 
 }  // namespace f2c::python

@@ -164,8 +164,9 @@ options voxel_size=, fuse_every=, intrinsics=, first=, last=, every=, ... Return
 a dict of arrays (vertices, triangles, colors, normals); out=PATH also writes it as PLY.)");
 
   m.def("simulate", &Simulate, py::arg("scene"), py::arg("frames"), py::arg("seed"), py::arg("out"), py::kw_only(),
-        py::arg("correspondences") = 400,
+        py::arg("correspondences") = 400, py::arg("overwrite") = false,
         R"(Simulates a scan into the folder out (a TUM layout with groundtruth.txt, correspondences.txt and
 scene.ply), as `fine2coarse simulate` does: scene two-rooms, apartment, apartment-square,
-corridor or object. Returns the true poses (frames x 4 x 4).)");
+corridor or object. A folder that is not empty is an error unless overwrite=True (which replaces
+the scan in it). Returns the true poses (frames x 4 x 4).)");
 }

@@ -122,6 +122,26 @@ TEST(Cli, BadRefinementOptionFailsBeforeAnyWork) {
 
 // A start trajectory that ends before the last frame is refused before any work, naming the
 // frame.
+// simulate onto a folder that holds a scan: refused (it would mix the old frames with the
+// new), or replaced whole with --overwrite, other files left as they were.
+TEST(Cli, SimulateOntoAScanRefusesOrReplacesIt) {
+  const fs::path dir = testing::FreshTempDir("cli_sim_twice") / "scan";
+  ASSERT_EQ(RunCli("simulate -o " + dir.string() + " --frames 6 -q --scene two-rooms").code, 0);
+  WriteFileAtomic(dir / "notes.txt", "mine");
+  const Result again = RunCli("simulate -o " + dir.string() + " --frames 4 -q --scene two-rooms --seed 1");
+  EXPECT_EQ(again.code, 1);
+  EXPECT_EQ(again.output, "error: " + dir.string() +
+                              ": is not empty: give a new or empty folder, or --overwrite to replace the scan in it\n");
+  EXPECT_EQ(ReadTumTrajectory(dir / "groundtruth.txt").size(), 6u);
+  const Result replaced =
+      RunCli("simulate -o " + dir.string() + " --frames 4 -q --scene two-rooms --seed 1 --overwrite");
+  ASSERT_EQ(replaced.code, 0) << replaced.output;
+  EXPECT_EQ(ReadTumTrajectory(dir / "groundtruth.txt").size(), 4u);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir / "rgb"), fs::directory_iterator()), 4);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir / "depth"), fs::directory_iterator()), 4);
+  EXPECT_EQ(ReadFileToString(dir / "notes.txt"), "mine");
+}
+
 TEST(Cli, InitialTrajectoryWithoutAFrameFailsBeforeAnyWork) {
   const fs::path dir = SyntheticTum("cli_initial_bad", 3);
   Trajectory truth = ReadTumTrajectory(dir / "groundtruth.txt");

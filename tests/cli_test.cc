@@ -57,6 +57,17 @@ TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
       RunCli("evaluate --json --estimate " + (out / "trajectory.txt").string() + " --ground-truth " + dir.string());
   ASSERT_EQ(e.code, 0) << e.output;
   EXPECT_NE(e.output.find("\"ate_m\""), std::string::npos);
+  // 5 frames span 0.13 s: no pair is 1 s apart, and so no RPE per second: n/a and null, never
+  // a 0 that reads as perfect.
+  const nlohmann::json stats = nlohmann::json::parse(e.output);
+  EXPECT_EQ(stats["rpe_per_second"]["translation_m"]["count"], 0);
+  EXPECT_TRUE(stats["rpe_per_second"]["translation_m"]["rmse"].is_null());
+  const Result table =
+      RunCli("evaluate --estimate " + (out / "trajectory.txt").string() + " --ground-truth " + dir.string());
+  EXPECT_NE(table.output.find(
+                "RPE/s translation        m          n/a       n/a       n/a       n/a       n/a       n/a      0"),
+            std::string::npos)
+      << table.output;
   // The .log estimate carries frame ids; with the dataset as ground truth it evaluates too.
   const Result log =
       RunCli("evaluate --estimate " + (out / "trajectory.log").string() + " --ground-truth " + dir.string());

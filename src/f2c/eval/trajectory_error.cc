@@ -214,6 +214,10 @@ EvaluationResult Evaluate(const Trajectory& estimate, const Trajectory& ground_t
 }
 
 nlohmann::json ToJson(const ErrorStatistics& s) {
+  if (s.count == 0) {  // nothing measured: null, never a 0 that reads as perfect
+    return {{"rmse", nullptr}, {"mean", nullptr}, {"median", nullptr}, {"std", nullptr},
+            {"min", nullptr},  {"max", nullptr},  {"count", 0}};
+  }
   return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std},
           {"min", s.min},   {"max", s.max},   {"count", s.count}};
 }

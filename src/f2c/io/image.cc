@@ -95,6 +95,25 @@ cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags) {
   return image;
 }
 
+void RequireSomeValidDepth(const RgbdSequence& sequence) {
+  const size_t n = sequence.frames.size();
+  if (n == 0) return;
+  auto has_depth = [&](size_t k) { return cv::countNonZero(LoadDepthMeters(sequence, sequence.frames[k]) > 0) > 0; };
+  std::vector<bool> seen(n, false);
+  for (size_t s = 0; s < 5; ++s) {  // first, last and three between
+    const size_t k = s * (n - 1) / 4;
+    if (seen[k]) continue;
+    seen[k] = true;
+    if (has_depth(k)) return;
+  }
+  for (size_t k = 0; k < n; ++k) {
+    if (!seen[k] && has_depth(k)) return;
+  }
+  ThrowInputError(sequence.root, fmt::format("none of its {} depth images holds a valid depth (all zero or an invalid "
+                                             "value; the first is {})",
+                                             n, sequence.frames.front().depth_path.string()));
+}
+
 cv::Mat LoadDepthMeters(const RgbdSequence& sequence, const RgbdFrame& frame) {
   const cv::Mat raw = DecodeImageFile(frame.depth_path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
   if (raw.depth() == CV_8U) {

@@ -19,6 +19,13 @@ cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags);
 // never blended across an edge; pixels that map outside the stored image are 0).
 cv::Mat LoadDepthMeters(const RgbdSequence& sequence, const RgbdFrame& frame);
 
+// InputError naming the sequence when not one of its depth images holds a valid pixel (all
+// zero, or all an invalid value: a wrong depth scale or folder), which would otherwise give
+// an identity trajectory and an empty mesh with nothing said. Decodes a few frames spread
+// over the sequence and stops at the first with depth; only a sequence whose samples are all
+// empty is read whole.
+void RequireSomeValidDepth(const RgbdSequence& sequence);
+
 // Colour as 8-bit BGR. Checks that it decodes and that its size equals the depth's
 // (`depth_size`, skipped when empty). Resampled to the pinhole model (bilinear) as the depth;
 // where that reaches outside the stored image the nearest edge pixel is repeated, so that no

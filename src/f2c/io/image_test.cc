@@ -163,6 +163,31 @@ TEST(DecodeImageFile, DamagedRareKindsAreOneLineAndNothingOnStderr) {
   }
 }
 
+// A sequence whose depth is all zero or all an invalid value is an error naming it; one
+// frame with depth anywhere (here one the first samples miss) is enough.
+TEST(RequireSomeValidDepth, NoFrameWithDepthIsAnError) {
+  const fs::path dir = testing::FreshTempDir("img_no_depth");
+  RgbdSequence seq;
+  seq.root = dir;
+  seq.intrinsics = testing::TestIntrinsics();
+  seq.invalid_depth_values = {0, 65535};
+  for (int k = 0; k < 9; ++k) {
+    RgbdFrame frame;
+    frame.depth_path = dir / ("d" + std::to_string(k) + ".png");
+    frame.color_path = dir / "c.png";
+    cv::imwrite(frame.depth_path.string(), cv::Mat(480, 640, CV_16U, cv::Scalar(k % 2 == 0 ? 0 : 65535)));
+    seq.frames.push_back(frame);
+  }
+  EXPECT_EQ(testing::InputErrorMessage([&] { RequireSomeValidDepth(seq); }),
+            dir.string() +
+                ": none of its 9 depth images holds a valid depth (all zero or an invalid value; the first is " +
+                (dir / "d0.png").string() + ")");
+  cv::Mat one(480, 640, CV_16U, cv::Scalar(0));
+  one.at<uint16_t>(100, 100) = 1000;
+  cv::imwrite((dir / "d3.png").string(), one);  // samples are frames 0, 2, 4, 6 and 8
+  RequireSomeValidDepth(seq);
+}
+
 TEST(LoadDepthMeters, SizeMustMatchIntrinsics) {
   Fixture f = Make("img_size_k");
   cv::imwrite(f.frame.depth_path.string(), cv::Mat(240, 320, CV_16U, cv::Scalar(2000)));

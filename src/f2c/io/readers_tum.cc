@@ -2,6 +2,7 @@
 // `timestamp tx ty tz qx qy qz qw` at 100 Hz. Depth PNGs hold metres * 5000.
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 
@@ -19,8 +20,13 @@ struct StampedFile {
   fs::path path;
 };
 
+// The list in time order: a list out of order is sorted (with one warning: frames read in
+// line order would make odometry jump, and the trajectory written would not be in time order,
+// which our own evaluate and fuse refuse); a time stamp listed twice is an error (which image
+// is that moment?).
 std::vector<StampedFile> ReadFileList(const fs::path& list, const fs::path& dir) {
   std::vector<StampedFile> files;
+  std::vector<int> lines;
   for (const TextLine& line : ReadDataLines(list)) {
     const auto tokens = SplitWhitespace(line.text);
     double t = 0;
@@ -28,8 +34,26 @@ std::vector<StampedFile> ReadFileList(const fs::path& list, const fs::path& dir)
       ThrowInputError(list, line.number, "expected 'timestamp filename'");
     }
     files.push_back({t, dir / tokens[1]});
+    lines.push_back(line.number);
   }
   if (files.empty()) ThrowInputError(list, "lists no image");
+  std::vector<size_t> order(files.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return files[a].timestamp < files[b].timestamp; });
+  for (size_t k = 1; k < order.size(); ++k) {
+    if (files[order[k]].timestamp == files[order[k - 1]].timestamp) {
+      const size_t later = std::max(order[k], order[k - 1]), earlier = std::min(order[k], order[k - 1]);
+      ThrowInputError(list, lines[later],
+                      fmt::format("time stamp {:.6f} listed again (line {})", files[later].timestamp, lines[earlier]));
+    }
+  }
+  if (!std::is_sorted(order.begin(), order.end())) {
+    spdlog::warn("{}: images listed out of time order; read in time order", list.string());
+    std::vector<StampedFile> sorted;
+    for (size_t i : order) sorted.push_back(files[i]);
+    files = std::move(sorted);
+  }
   return files;
 }
 
@@ -87,6 +111,11 @@ RgbdSequence ReadTum(const fs::path& dir, const IoOptions& options) {
   if (seq.frames.empty()) {
     ThrowInputError(dir / "depth.txt", fmt::format("no depth image within {} s of a colour image in rgb.txt",
                                                    options.max_time_difference));
+  }
+  if (seq.frames.size() < colors.size()) {
+    spdlog::warn("{}: {} of {} colour images have no depth image within {} s (depth.txt): left out",
+                 (dir / "rgb.txt").string(), colors.size() - seq.frames.size(), colors.size(),
+                 options.max_time_difference);
   }
   // TUM folders carry no intrinsics; ours (the simulator's) add camera-intrinsics.txt.
   if (fs::exists(dir / "camera-intrinsics.txt")) {

@@ -7,9 +7,11 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "f2c/io/image.h"
+#include "f2c/testing/log_capture.h"
 #include "f2c/testing/synthetic_scene.h"
 #include "f2c/util/error.h"
 #include "f2c/util/file.h"
+#include "f2c/util/text.h"
 
 namespace f2c {
 namespace {
@@ -89,6 +91,45 @@ TEST(ReadTum, MalformedRgbTxt) {
   WriteFileAtomic(dir / "rgb.txt", "# color\n1000.0 rgb/a.png\n1000.1\n");
   EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir); }),
             (dir / "rgb.txt").string() + ":3: expected 'timestamp filename'");
+}
+
+// Lists out of time order are read in time order (one warning each; our own evaluate and
+// fuse refuse a trajectory that is not); a time stamp listed twice is an error; colour
+// images without depth are counted in one warning.
+TEST(ReadTum, ListsInTimeOrderTimeStampsOnceAndDroppedImagesCounted) {
+  const fs::path dir = TumFolder("tum_order", 4);
+  const RgbdSequence in_order = ReadSequence(dir);
+  auto lines = [&](const std::string& list) {
+    std::vector<std::string> out;
+    for (const TextLine& line : ReadDataLines(dir / list)) out.push_back(line.text);
+    return out;
+  };
+  const std::vector<std::string> rgb = lines("rgb.txt"), depth = lines("depth.txt");
+  ASSERT_EQ(rgb.size(), 4u);
+  WriteFileAtomic(dir / "rgb.txt", rgb[2] + "\n" + rgb[0] + "\n" + rgb[3] + "\n" + rgb[1] + "\n");
+  {
+    testing::LogCapture log;
+    const RgbdSequence sorted = ReadSequence(dir);
+    ASSERT_EQ(sorted.frames.size(), 4u);
+    for (size_t k = 0; k < 4; ++k) {
+      EXPECT_EQ(sorted.frames[k].timestamp, in_order.frames[k].timestamp);
+      EXPECT_EQ(sorted.frames[k].color_path, in_order.frames[k].color_path);
+      EXPECT_EQ(sorted.frames[k].depth_path, in_order.frames[k].depth_path);
+    }
+    EXPECT_EQ(log.Lines(), std::vector<std::string>{(dir / "rgb.txt").string() +
+                                                    ": images listed out of time order; read in time order"});
+  }
+  WriteFileAtomic(dir / "rgb.txt", rgb[0] + "\n" + rgb[1] + "\n" + rgb[1] + "\n");
+  EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir); }),
+            (dir / "rgb.txt").string() +
+                fmt::format(":3: time stamp {:.6f} listed again (line 2)", in_order.frames[1].timestamp));
+  WriteFileAtomic(dir / "rgb.txt", rgb[0] + "\n" + rgb[1] + "\n" + rgb[2] + "\n" + rgb[3] + "\n");
+  WriteFileAtomic(dir / "depth.txt", depth[0] + "\n" + depth[3] + "\n");
+  testing::LogCapture log;
+  EXPECT_EQ(ReadSequence(dir).frames.size(), 2u);
+  EXPECT_EQ(log.Lines(), std::vector<std::string>{(dir / "rgb.txt").string() +
+                                                  ": 2 of 4 colour images have no depth image within 0.02 s "
+                                                  "(depth.txt): left out"});
 }
 
 TEST(ReadTum, MissingFrameImage) {

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <opencv2/core/utility.hpp>
 
+#include "f2c/io/image.h"
 #include "f2c/refine/keyframes.h"
 #include "f2c/util/error.h"
 #include "f2c/util/memory.h"
@@ -158,6 +159,7 @@ RegisterResult Register(RgbdSequence sequence, const RegisterOptions& options) {
   const RgbdSequence& seq = r.sequence;  // the stages below keep references to it
   if (seq.frames.size() < 2) ThrowInputError(seq.root, "registration needs at least 2 frames");
   RequireIntrinsics(seq);
+  RequireSomeValidDepth(seq);
   if (options.initial_poses && options.initial_poses->size() != seq.frames.size()) {
     ThrowInputError("--initial-trajectory",
                     fmt::format("{} poses for {} frames", options.initial_poses->size(), seq.frames.size()));

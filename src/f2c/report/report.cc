@@ -28,6 +28,11 @@ std::vector<int> Histogram(const std::vector<double>& values, double max, int bi
 
 namespace {
 
+// One number of a statistic, or n/a when nothing was measured (a 0 would read as perfect).
+std::string Cell(const ErrorStatistics& s, double value, int digits) {
+  return s.count == 0 ? std::string("n/a") : fmt::format("{:.{}f}", value, digits);
+}
+
 // The ground-truth pose nearest in time to t (within max_dt), if any. Stamps are sorted.
 std::optional<Rigid3d> TruthAt(const Trajectory& truth, double t, double max_dt) {
   const auto it = std::lower_bound(truth.timestamps.begin(), truth.timestamps.end(), t);
@@ -485,12 +490,16 @@ std::string BuildReport(const ReportInput& in) {
       try {
         const EvaluationResult r = Evaluate(a.estimate->trajectory, gt, eval_options);
         stats += fmt::format(
-            "<tr><td>{}</td><td>{}</td><td>{:.4f}</td><td>{:.4f}</td><td>{:.4f}</td><td>{:.4f}</td><td>{:.3f}</td>"
-            "<td>{:.4f}</td><td>{:.3f}</td><td>{:.3f}</td><td>{:.2f}</td><td>{:.2f}</td></tr>\n",
-            EscapeXml(a.estimate->name), r.ate.translation.count, r.ate.translation.rmse, r.ate.translation.median,
-            r.ate.translation.max, r.rpe_per_frame.translation.rmse, r.rpe_per_frame.rotation.rmse,
-            r.rpe_per_second.translation.rmse, r.rpe_per_second.rotation.rmse, r.drift.rotation.rmse,
-            r.drift.rotation.max, r.drift_smoothed.rotation.max);
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+            "<td>{}</td><td>{}</td><td>{}</td></tr>\n",
+            EscapeXml(a.estimate->name), r.ate.translation.count, Cell(r.ate.translation, r.ate.translation.rmse, 4),
+            Cell(r.ate.translation, r.ate.translation.median, 4), Cell(r.ate.translation, r.ate.translation.max, 4),
+            Cell(r.rpe_per_frame.translation, r.rpe_per_frame.translation.rmse, 4),
+            Cell(r.rpe_per_frame.rotation, r.rpe_per_frame.rotation.rmse, 3),
+            Cell(r.rpe_per_second.translation, r.rpe_per_second.translation.rmse, 4),
+            Cell(r.rpe_per_second.rotation, r.rpe_per_second.rotation.rmse, 3),
+            Cell(r.drift.rotation, r.drift.rotation.rmse, 3), Cell(r.drift.rotation, r.drift.rotation.max, 2),
+            Cell(r.drift_smoothed.rotation, r.drift_smoothed.rotation.max, 2));
       } catch (const std::exception& e) {
         stats += fmt::format("<tr><td>{}</td><td colspan=\"11\">{}</td></tr>\n", EscapeXml(a.estimate->name),
                              EscapeXml(e.what()));
@@ -533,8 +542,8 @@ std::string BuildReport(const ReportInput& in) {
       for (const GapBin& b : BinByGap(by_gap)) s.x.push_back(b.gap_lo), s.y.push_back(b.median);
       fig9.series.push_back(s);
       const ErrorStatistics st = ComputeStatistics(all);
-      table += fmt::format("<tr><td>{}</td><td>{}</td><td>{:.4f}</td><td>{:.4f}</td></tr>\n", EscapeXml(e.name),
-                           st.count, st.rmse, st.median);
+      table += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n", EscapeXml(e.name), st.count,
+                           Cell(st, st.rmse, 4), Cell(st, st.median, 4));
       std::vector<double> sorted = all;
       std::sort(sorted.begin(), sorted.end());
       if (!sorted.empty()) top = std::max(top, sorted[std::min(sorted.size() - 1, sorted.size() * 98 / 100)]);

@@ -105,8 +105,17 @@ PlyPoints SceneSurfaces(const Scene& scene) {
   return ply;
 }
 
-Trajectory Simulate(const fs::path& dir, const SimulateOptions& options, bool quiet) {
+Trajectory Simulate(const fs::path& dir, const SimulateOptions& options, bool quiet, bool overwrite) {
   options.Check();
+  if (fs::is_directory(dir) && !fs::is_empty(dir)) {
+    if (!overwrite) {
+      ThrowInputError(dir, "is not empty: give a new or empty folder, or --overwrite to replace the scan in it");
+    }
+    for (const char* entry : {"rgb", "depth", "rgb.txt", "depth.txt", "groundtruth.txt", "camera-intrinsics.txt",
+                              "correspondences.txt", "scene.ply"}) {
+      fs::remove_all(dir / entry);
+    }
+  }
   const Scene scene = BuildScene(options.scene, options.seed);
   WalkOptions walk = options.walk;
   walk.seed = options.seed;

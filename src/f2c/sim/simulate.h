@@ -39,8 +39,12 @@ struct SimulateOptions {
   void Check() const;
 };
 
-// Writes the scan into `dir` (created; files written atomically). Returns the poses.
-Trajectory Simulate(const std::filesystem::path& dir, const SimulateOptions& options, bool quiet);
+// Writes the scan into `dir` (created; files written atomically). Returns the poses. A folder
+// that is not empty is an InputError unless `overwrite`, which first removes the entries a
+// simulated scan is made of (a scan written over another would keep the old frames beyond
+// the new count, and the old images between rewritten lists); other files stay.
+Trajectory Simulate(const std::filesystem::path& dir, const SimulateOptions& options, bool quiet,
+                    bool overwrite = false);
 
 // The scene's triangles as a PLY mesh (three vertices per triangle, with its normal).
 PlyPoints SceneSurfaces(const Scene& scene);
