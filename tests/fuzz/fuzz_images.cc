@@ -1,5 +1,6 @@
-// The image decoders every frame goes through: our PNG path, TurboJPEG, then OpenCV for the
-// rest (DecodeImageFile), with each flag the pipeline uses.
+// The image decoders every frame goes through: our PNG path, libpng for the other PNG kinds,
+// TurboJPEG (CMYK and EXIF orientation too), then OpenCV for the rest (DecodeImageFile), with
+// each flag the pipeline uses.
 #include <opencv2/imgcodecs.hpp>
 
 #include "f2c/io/image.h"
