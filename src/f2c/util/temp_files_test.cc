@@ -78,7 +78,7 @@ TEST(RemoveStaleTemporaries, RemovesOnlyThoseOfDeadProcesses) {
   ASSERT_EQ(::waitpid(child, nullptr, 0), child);  // reaped: its pid names no process now
   fs::create_directories(dir / "cache");
   const std::string dead = std::to_string(child), alive = std::to_string(::getpid());
-  for (const std::string name :
+  for (const std::string& name :
        {"cache/features.f2cf.tmp." + dead, "run.json.tmp." + dead + ".3", "cache/features.f2cf.tmp." + alive,
         std::string("notes.tmp.txt"), "a.tmp." + dead + ".x", std::string("trajectory.txt")}) {
     Touch(dir / name);
