@@ -205,7 +205,7 @@ Subcommand AddEvaluateCommand(CLI::App* app) {
                                       "as the TUM benchmark tools compute them");
   cmd->add_option("--estimate", args->estimate, "trajectory: TUM text, .log or .conf")->required();
   cmd->add_option("--ground-truth", args->ground_truth,
-                  "ground truth: a trajectory file, or a dataset folder that has one")
+                  "ground truth: a trajectory file, or a dataset folder or .sens recording that has one")
       ->required();
   cmd->add_flag("--json", args->json, "print JSON instead of a table");
   cmd->add_option("--correspondences", args->correspondences,

@@ -20,7 +20,12 @@ namespace {
 int PrintJson(const RgbdSequence& seq) {
   nlohmann::json frames = nlohmann::json::array();
   for (const RgbdFrame& f : seq.frames) {
-    frames.push_back({{"timestamp", f.timestamp}, {"color", f.color_path.string()}, {"depth", f.depth_path.string()}});
+    nlohmann::json frame = {
+        {"timestamp", f.timestamp}, {"color", f.color_path.string()}, {"depth", f.depth_path.string()}};
+    // Images inside a recording: where they lie in it.
+    if (f.color_embedded) frame["color_bytes"] = {f.color_embedded->offset, f.color_embedded->size};
+    if (f.depth_embedded) frame["depth_bytes"] = {f.depth_embedded->offset, f.depth_embedded->size};
+    frames.push_back(frame);
   }
   nlohmann::json j = {{"input", seq.root.string()},
                       {"layout", LayoutName(seq.layout)},
@@ -40,6 +45,21 @@ int PrintJson(const RgbdSequence& seq) {
                        {"source", seq.intrinsics_source}};
   } else {
     j["intrinsics"] = nullptr;
+  }
+  if (seq.color_camera) {
+    const CameraIntrinsics& c = seq.color_camera->intrinsics;
+    const Eigen::Matrix4d m = seq.color_camera->color_from_depth.matrix();
+    std::vector<double> rows;  // row-major, as the .sens and .log files hold matrices
+    for (int r = 0; r < 4; ++r) {
+      for (int c = 0; c < 4; ++c) rows.push_back(m(r, c));
+    }
+    j["color_camera"] = {{"fx", c.fx},
+                         {"fy", c.fy},
+                         {"cx", c.cx},
+                         {"cy", c.cy},
+                         {"width", c.width},
+                         {"height", c.height},
+                         {"color_from_depth", rows}};
   }
   std::printf("%s\n", j.dump(2).c_str());
   return 0;
@@ -61,6 +81,15 @@ int RunInfo(const InfoArgs& args) {
     if (k.HasDistortion()) {
       std::printf("distortion   k1 %g k2 %g p1 %g p2 %g k3 %g (frames are resampled to the pinhole model)\n",
                   k.distortion[0], k.distortion[1], k.distortion[2], k.distortion[3], k.distortion[4]);
+    }
+    if (seq.color_camera) {
+      const CameraIntrinsics& c = seq.color_camera->intrinsics;
+      const Rigid3d& e = seq.color_camera->color_from_depth;
+      std::printf(
+          "depth camera %dx%d; colour camera %dx%d, fx %.3f fy %.3f cx %.3f cy %.3f, %.1f mm and %.2f deg "
+          "from the depth camera (colour is resampled into the depth camera)\n",
+          k.width, k.height, c.width, c.height, c.fx, c.fy, c.cx, c.cy, 1000 * e.translation().norm(),
+          Eigen::AngleAxisd(e.linear()).angle() * 180 / M_PI);
     }
   } else {
     std::printf(
@@ -99,7 +128,7 @@ Subcommand AddInfoCommand(CLI::App* app) {
   CLI::App* cmd = app->add_subcommand("info",
                                       "what a dataset folder holds: layout, frames, "
                                       "intrinsics, depth range, ground truth");
-  cmd->add_option("INPUT", args->input, "dataset folder or .conf")->required();
+  cmd->add_option("INPUT", args->input, "dataset folder, .conf or .sens recording")->required();
   AddFieldFlags(cmd, &args->io);
   cmd->add_flag("--json", args->json,
                 "print JSON instead: layout, intrinsics, depth scale, ground truth and every selected frame's time "

@@ -77,7 +77,8 @@ py::dict Evaluate(const py::object& estimate, const py::object& ground_truth, co
   fs::path correspondence_file;
   if (IsPath(ground_truth)) {
     const fs::path path = PathArg(ground_truth, "ground_truth", true);
-    gt = fs::is_directory(path) ? LoadGroundTruth(path, IoOptions(), &dataset) : ReadTrajectoryFile(path);
+    gt = fs::is_directory(path) || IsRecordingFile(path) ? LoadGroundTruth(path, IoOptions(), &dataset)
+                                                         : ReadTrajectoryFile(path);
     if (dataset && fs::exists(path / "correspondences.txt")) correspondence_file = path / "correspondences.txt";
   } else {
     gt = TrajectoryArg(ground_truth, ground_truth_timestamps, "ground_truth");

@@ -14,6 +14,7 @@
 #include "f2c/io/correspondences.h"
 #include "f2c/io/ply.h"
 #include "f2c/io/trajectory.h"
+#include "f2c/testing/sens_writer.h"
 #include "f2c/testing/synthetic_scene.h"
 #include "f2c/util/file.h"
 #include "f2c/util/text.h"
@@ -110,6 +111,39 @@ TEST(Cli, RegisterThenEvaluateOnASyntheticSequence) {
 // Keyframe odometry (the default) aligns most frames to a keyframe, but every input frame
 // still gets exactly one pose in each output, the same in all three; odometry.json says
 // which keyframe each frame was aligned to and how much E_L trusts it.
+// A ScanNet .sens recording whose colour comes from a camera of its own (800x600, 2.5 cm
+// beside the depth camera) registers as the folder of the same frames does, and `info`
+// says what it found.
+TEST(Cli, RegisterASensRecordingAsTheFolderOfItsFrames) {
+  const int n = 8;
+  const fs::path folder = SyntheticTum("cli_sens_folder", n);
+  const Trajectory truth = ReadTumTrajectory(folder / "groundtruth.txt");
+  const fs::path dir = testing::FreshTempDir("cli_sens");
+  testing::SensOptions o;
+  o.color = {600.0, 605.0, 405.0, 297.0, 800, 600};
+  o.color_from_depth.translation() = Eigen::Vector3d(-0.025, 0, 0);
+  testing::WriteSyntheticSens(dir / "scan.sens", testing::SyntheticScene(), truth.world_from_camera, o);
+  const Result info = RunCli("info " + (dir / "scan.sens").string());
+  ASSERT_EQ(info.code, 0) << info.output;
+  EXPECT_NE(info.output.find("layout       sens"), std::string::npos) << info.output;
+  EXPECT_NE(
+      info.output.find("colour camera 800x600, fx 600.000 fy 605.000 cx 405.000 cy 297.000, 25.0 mm and 0.00 deg"),
+      std::string::npos)
+      << info.output;
+  auto ate = [&](const std::string& input, const std::string& extra, const fs::path& out) {
+    const Result r = RunCli("register " + input + " -q --no-report --no-mesh -o " + out.string() + extra);
+    EXPECT_EQ(r.code, 0) << r.output;
+    const Result e =
+        RunCli("evaluate --json --estimate " + (out / "trajectory.txt").string() + " --ground-truth " + input);
+    EXPECT_EQ(e.code, 0) << e.output;
+    return nlohmann::json::parse(e.output)["ate_m"]["rmse"].get<double>();
+  };
+  const double from_folder = ate(folder.string(), " --intrinsics 525,525,319.5,239.5", dir / "folder_out");
+  const double from_sens = ate((dir / "scan.sens").string(), "", dir / "sens_out");
+  EXPECT_LT(std::abs(from_sens - from_folder), 0.001) << from_sens << " " << from_folder;
+  EXPECT_LT(from_sens, 0.005);
+}
+
 TEST(Cli, KeyframeOdometryGivesEveryFrameOnePoseInEveryOutput) {
   const fs::path dir = SyntheticTum("cli_keyframes", 12);
   const fs::path out = testing::FreshTempDir("cli_keyframes_out");

@@ -334,8 +334,8 @@ void FeatureExtraction::Deliver(int frame, FrameFeatures&& f) {
 void FeatureExtraction::ReadCache() {
   const int n = static_cast<int>(seq_.frames.size());
   Timer timer;
-  tbb::parallel_for(
-      0, n, [&](int i) { keys_[i] = HashFile(seq_.frames[i].depth_path) ^ (context_ * 0x9E3779B97F4A7C15ULL); });
+  tbb::parallel_for(0, n,
+                    [&](int i) { keys_[i] = HashFrameDepth(seq_.frames[i]) ^ (context_ * 0x9E3779B97F4A7C15ULL); });
   timings_.hashing = timer.Seconds();
   std::unordered_map<uint64_t, std::vector<int>> frames_of;  // frames with identical bytes share a key
   for (int i = 0; i < n; ++i) frames_of[keys_[i]].push_back(i);

@@ -9,7 +9,11 @@
 #include <filesystem>
 #include <string>
 #include <vector>
+#include <cstring>
+#include <fstream>
+#include <memory>
 #include <dlfcn.h>
+#include <libdeflate.h>
 #include <unistd.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -67,7 +71,10 @@ OpenCvDecode OpenCvDecoder() {
 
 cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags) {
   if (!std::filesystem::is_regular_file(path)) ThrowInputError(path, "missing frame image");
-  const std::string bytes = ReadFileToString(path);
+  return DecodeImageBytes(ReadFileToString(path), path.string(), flags);
+}
+
+cv::Mat DecodeImageBytes(const std::string& bytes, const std::string& path, int flags) {
   cv::Mat image;
   std::string problem;
   DecodeStatus status = DecodePng(bytes, AsPngRequest(flags), &image, &problem);
@@ -95,6 +102,95 @@ cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags) {
   return image;
 }
 
+std::string ReadFileRange(const std::filesystem::path& path, uint64_t offset, uint64_t size) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) ThrowInputError(path, "cannot open the recording");
+  std::string bytes(size, '\0');
+  in.seekg(static_cast<std::streamoff>(offset));
+  if (!in.read(bytes.data(), static_cast<std::streamsize>(size))) {
+    ThrowInputError(path, fmt::format("cut short: {} bytes at {} lie past its end", size, offset));
+  }
+  return bytes;
+}
+
+namespace {
+
+// A frame's image: its own file, or the part of a recording it is embedded in.
+cv::Mat ReadFrameImage(const std::filesystem::path& path, const std::optional<EmbeddedImage>& embedded, int flags) {
+  if (!embedded) return DecodeImageFile(path, flags);
+  const EmbeddedImage& e = *embedded;
+  const std::string where = fmt::format("{} (bytes {}-{})", path.string(), e.offset, e.offset + e.size);
+  const std::string bytes = ReadFileRange(path, e.offset, e.size);
+  const size_t pixels = static_cast<size_t>(e.width) * static_cast<size_t>(e.height);
+  switch (e.format) {
+    case EmbeddedImage::Format::kEncoded:
+      return DecodeImageBytes(bytes, where, flags);
+    case EmbeddedImage::Format::kRgb8: {
+      if (bytes.size() != pixels * 3) {
+        ThrowInputError(where, fmt::format("raw colour of {} bytes for {}x{} pixels", bytes.size(), e.width, e.height));
+      }
+      cv::Mat rgb(e.height, e.width, CV_8UC3, const_cast<char*>(bytes.data()));
+      cv::Mat out;
+      cv::cvtColor(rgb, out, flags == cv::IMREAD_GRAYSCALE ? cv::COLOR_RGB2GRAY : cv::COLOR_RGB2BGR);
+      return out;
+    }
+    case EmbeddedImage::Format::kRawU16:
+    case EmbeddedImage::Format::kZlibU16: {
+      cv::Mat depth(e.height, e.width, CV_16UC1);
+      const size_t want = pixels * 2;
+      if (e.format == EmbeddedImage::Format::kRawU16) {
+        if (bytes.size() != want) {
+          ThrowInputError(where,
+                          fmt::format("raw depth of {} bytes for {}x{} pixels", bytes.size(), e.width, e.height));
+        }
+        std::memcpy(depth.data, bytes.data(), want);  // little-endian, as this machine
+      } else {
+        thread_local std::unique_ptr<libdeflate_decompressor, void (*)(libdeflate_decompressor*)> inflater(
+            libdeflate_alloc_decompressor(), libdeflate_free_decompressor);
+        size_t got = 0;
+        if (libdeflate_zlib_decompress(inflater.get(), bytes.data(), bytes.size(), depth.data, want, &got) !=
+                LIBDEFLATE_SUCCESS ||
+            got != want) {
+          ThrowInputError(where,
+                          fmt::format("damaged zlib depth (not {} bytes of {}x{} depth)", want, e.width, e.height));
+        }
+      }
+      return depth;
+    }
+  }
+  ThrowInputError(where, "unknown embedded image format");
+}
+
+// Colour from another camera resampled into the depth camera: each depth pixel's colour is
+// where its point (from its depth; at infinity where it has none) projects in the colour
+// image, bilinear, the colour image's edge repeated beyond it.
+cv::Mat ColorIntoDepthCamera(const RgbdSequence& sequence, const RgbdFrame& frame, const cv::Mat& color) {
+  const ColorCamera& camera = *sequence.color_camera;
+  const CameraIntrinsics& kd = *sequence.intrinsics;
+  const CameraIntrinsics& kc = camera.intrinsics;
+  const Eigen::Matrix3d r = camera.color_from_depth.linear();
+  const Eigen::Vector3d t = camera.color_from_depth.translation();
+  // A translation makes the mapping depend on depth; without one it is a homography.
+  cv::Mat depth;
+  if (t.norm() > 0) depth = LoadDepthMeters(sequence, frame);
+  cv::Mat map_x(kd.height, kd.width, CV_32F), map_y(kd.height, kd.width, CV_32F);
+  for (int v = 0; v < kd.height; ++v) {
+    for (int u = 0; u < kd.width; ++u) {
+      const Eigen::Vector3d ray((u - kd.cx) / kd.fx, (v - kd.cy) / kd.fy, 1.0);
+      const float z = depth.empty() ? 0.0f : depth.at<float>(v, u);
+      const Eigen::Vector3d p = z > 0 ? Eigen::Vector3d(r * (z * ray) + t) : Eigen::Vector3d(r * ray);
+      const bool ahead = p.z() > 1e-9;
+      map_x.at<float>(v, u) = ahead ? static_cast<float>(kc.fx * p.x() / p.z() + kc.cx) : -1.0f;
+      map_y.at<float>(v, u) = ahead ? static_cast<float>(kc.fy * p.y() / p.z() + kc.cy) : -1.0f;
+    }
+  }
+  cv::Mat out;
+  cv::remap(color, out, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  return out;
+}
+
+}  // namespace
+
 void RequireSomeValidDepth(const RgbdSequence& sequence) {
   const size_t n = sequence.frames.size();
   if (n == 0) return;
@@ -115,7 +211,7 @@ void RequireSomeValidDepth(const RgbdSequence& sequence) {
 }
 
 cv::Mat LoadDepthMeters(const RgbdSequence& sequence, const RgbdFrame& frame) {
-  const cv::Mat raw = DecodeImageFile(frame.depth_path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+  const cv::Mat raw = ReadFrameImage(frame.depth_path, frame.depth_embedded, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
   if (raw.depth() == CV_8U) {
     ThrowInputError(frame.depth_path, "depth image is 8-bit; expected 16-bit");
   }
@@ -197,8 +293,17 @@ cv::Mat UndistortImage(const cv::Mat& image, const CameraIntrinsics& intrinsics,
 
 namespace {
 
-cv::Mat LoadColorAs(const RgbdFrame& frame, cv::Size depth_size, int flags) {
-  cv::Mat color = DecodeImageFile(frame.color_path, flags);
+cv::Mat LoadColorAs(const RgbdSequence& sequence, const RgbdFrame& frame, cv::Size depth_size, int flags) {
+  cv::Mat color = ReadFrameImage(frame.color_path, frame.color_embedded, flags);
+  if (sequence.color_camera && sequence.intrinsics) {
+    const CameraIntrinsics& kc = sequence.color_camera->intrinsics;
+    if (color.cols != kc.width || color.rows != kc.height) {
+      ThrowInputError(frame.color_path, fmt::format("colour image is {}x{} but the colour camera's intrinsics are for "
+                                                    "{}x{}",
+                                                    color.cols, color.rows, kc.width, kc.height));
+    }
+    return ColorIntoDepthCamera(sequence, frame, color);
+  }
   if (!depth_size.empty() && color.size() != depth_size) {
     ThrowInputError(frame.color_path,
                     fmt::format("colour image is {}x{} but its depth image {} is {}x{}", color.cols, color.rows,
@@ -210,12 +315,14 @@ cv::Mat LoadColorAs(const RgbdFrame& frame, cv::Size depth_size, int flags) {
 }  // namespace
 
 cv::Mat LoadColor(const RgbdSequence& sequence, const RgbdFrame& frame, cv::Size depth_size) {
-  const cv::Mat color = LoadColorAs(frame, depth_size, cv::IMREAD_COLOR);
+  const cv::Mat color = LoadColorAs(sequence, frame, depth_size, cv::IMREAD_COLOR);
+  if (sequence.color_camera) return color;  // already in the (pinhole) depth camera
   return sequence.intrinsics ? UndistortImage(color, *sequence.intrinsics, cv::INTER_LINEAR) : color;
 }
 
 cv::Mat LoadGray(const RgbdSequence& sequence, const RgbdFrame& frame, cv::Size depth_size) {
-  const cv::Mat gray = LoadColorAs(frame, depth_size, cv::IMREAD_GRAYSCALE);
+  const cv::Mat gray = LoadColorAs(sequence, frame, depth_size, cv::IMREAD_GRAYSCALE);
+  if (sequence.color_camera) return gray;
   return sequence.intrinsics ? UndistortImage(gray, *sequence.intrinsics, cv::INTER_LINEAR) : gray;
 }
 

@@ -12,6 +12,10 @@ namespace f2c {
 // OpenCV for PNM, TIFF and BMP (and PNG/JPEG kinds ours leave to it); other formats are
 // refused. A missing, damaged or oversized (over 32 megapixels) file is an InputError naming it.
 cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags);
+// The same for bytes already read; `path` names them in errors.
+cv::Mat DecodeImageBytes(const std::string& bytes, const std::string& path, int flags);
+// `size` bytes at `offset` of a file; InputError naming it when they lie past its end.
+std::string ReadFileRange(const std::filesystem::path& path, uint64_t offset, uint64_t size);
 
 // Depth in metres (CV_32F); invalid pixels are 0. Checks: the file decodes, is 16-bit single
 // channel, and has the intrinsics' size when intrinsics are known. When the intrinsics carry
@@ -31,6 +35,9 @@ void RequireSomeValidDepth(const RgbdSequence& sequence);
 // where that reaches outside the stored image the nearest edge pixel is repeated, so that no
 // black rim gives SIFT and the optical flow a corner that does not move with the scene
 // (measured: T0's ATE on tum_fr1_xyz_15hz 0.0270 m with a black rim, 0.0236 without).
+// Where the colour is another camera (RgbdSequence::color_camera), it is resampled into the
+// depth camera instead: each depth pixel takes the colour where its point projects (points
+// without depth taken at infinity), so the result has the depth's size and intrinsics.
 cv::Mat LoadColor(const RgbdSequence& sequence, const RgbdFrame& frame, cv::Size depth_size = {});
 // The colour image decoded straight to 8-bit grey (the same checks and resampling as LoadColor).
 cv::Mat LoadGray(const RgbdSequence& sequence, const RgbdFrame& frame, cv::Size depth_size);

@@ -11,6 +11,9 @@ RgbdSequence ReadTum(const std::filesystem::path& dir, const IoOptions& options)
 RgbdSequence ReadSevenScenes(const std::filesystem::path& dir, const IoOptions& options);
 RgbdSequence ReadRedwood(const std::filesystem::path& dir, const IoOptions& options);
 RgbdSequence ReadSun3d(const std::filesystem::path& dir, const IoOptions& options);
+// A ScanNet / BundleFusion .sens recording (readers_sens.cc), and whether a file starts as one.
+RgbdSequence ReadSens(const std::filesystem::path& path, const IoOptions& options);
+bool LooksLikeSens(const std::filesystem::path& path);
 
 // Open3D's PinholeCameraIntrinsic JSON: width, height, intrinsic_matrix (column-major 3x3).
 CameraIntrinsics ReadOpen3dIntrinsics(const std::filesystem::path& path);

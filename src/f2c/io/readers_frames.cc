@@ -238,7 +238,7 @@ RgbdSequence ReadSun3d(const fs::path& dir, const IoOptions& options) {
       const auto it = std::lower_bound(td.begin(), td.end(), tc[i]);
       size_t j = std::min<size_t>(it - td.begin(), td.size() - 1);
       if (j > 0 && std::abs(td[j - 1] - tc[i]) <= std::abs(td[j] - tc[i])) --j;
-      seq.frames.push_back({tc[i], colors[i], depths[j], depths[j].filename().string()});
+      seq.frames.push_back({tc[i], colors[i], depths[j], depths[j].filename().string(), {}, {}});
     }
   } else {
     if (colors.size() != depths.size()) {
@@ -247,7 +247,7 @@ RgbdSequence ReadSun3d(const fs::path& dir, const IoOptions& options) {
                                        colors.size(), depths.size()));
     }
     for (size_t i = 0; i < colors.size(); ++i) {
-      seq.frames.push_back({i / options.assumed_fps, colors[i], depths[i], depths[i].filename().string()});
+      seq.frames.push_back({i / options.assumed_fps, colors[i], depths[i], depths[i].filename().string(), {}, {}});
     }
   }
   // extrinsics/: the newest file (by name) holds one 3x4 camera-to-world per colour frame.

@@ -28,6 +28,8 @@ std::string LayoutName(DatasetLayout layout) {
       return "sun3d";
     case DatasetLayout::kConf:
       return "conf";
+    case DatasetLayout::kSens:
+      return "sens";
   }
   return "?";
 }
@@ -95,7 +97,8 @@ DatasetLayout DetectLayout(const fs::path& path) {
   if (!fs::exists(path, ec)) ThrowInputError(path, "no such file or folder");
   if (fs::is_regular_file(path)) {
     if (path.extension() == ".conf") return DatasetLayout::kConf;
-    ThrowInputError(path, "not a dataset folder or .conf file");
+    if (internal::LooksLikeSens(path)) return DatasetLayout::kSens;  // by content, whatever its name
+    ThrowInputError(path, "not a dataset folder, .conf or .sens file");
   }
   if (fs::is_empty(path, ec)) ThrowInputError(path, "folder is empty");
   if (fs::exists(path / "rgb.txt") && fs::exists(path / "depth.txt")) return DatasetLayout::kTum;
@@ -129,6 +132,9 @@ RgbdSequence ReadSequence(const fs::path& path, const IoOptions& options) {
       break;
     case DatasetLayout::kSun3d:
       sequence = internal::ReadSun3d(path, options);
+      break;
+    case DatasetLayout::kSens:
+      sequence = internal::ReadSens(path, options);
       break;
     case DatasetLayout::kConf: {
       const fs::path conf_path = fs::is_directory(path) ? ConfFilesIn(path)[0] : path;
@@ -179,8 +185,19 @@ const CameraIntrinsics& RequireIntrinsics(const RgbdSequence& seq) {
   return *seq.intrinsics;
 }
 
+namespace {
+
+uint64_t HashImage(const fs::path& path, const std::optional<EmbeddedImage>& embedded) {
+  if (!embedded) return HashFile(path);
+  return HashBytes(ReadFileRange(path, embedded->offset, embedded->size));
+}
+
+}  // namespace
+
+uint64_t HashFrameDepth(const RgbdFrame& frame) { return HashImage(frame.depth_path, frame.depth_embedded); }
+
 uint64_t HashFrameFiles(const RgbdFrame& frame) {
-  return HashFile(frame.depth_path) ^ (HashFile(frame.color_path) * 31);
+  return HashFrameDepth(frame) ^ (HashImage(frame.color_path, frame.color_embedded) * 31);
 }
 
 std::string CacheContext(const RgbdSequence& seq, const std::string& options_json) {
@@ -192,6 +209,12 @@ std::string CacheContext(const RgbdSequence& seq, const std::string& options_jso
   }
   context += fmt::format("|depth {:.17g} {} {}", seq.depth_scale, static_cast<int>(seq.depth_encoding),
                          fmt::join(seq.invalid_depth_values, ","));
+  if (seq.color_camera) {  // colour resampled from another camera: what SIFT sees depends on it
+    const CameraIntrinsics& c = seq.color_camera->intrinsics;
+    const Eigen::Matrix4d m = seq.color_camera->color_from_depth.matrix();
+    context += fmt::format("|C {:.17g} {:.17g} {:.17g} {:.17g} {} {} {:.17g}", c.fx, c.fy, c.cx, c.cy, c.width,
+                           c.height, fmt::join(m.data(), m.data() + 16, " "));
+  }
   return context;
 }
 
@@ -212,8 +235,10 @@ Trajectory PlaceAtFrames(Trajectory trajectory, const RgbdSequence& sequence, co
   return placed;
 }
 
+bool IsRecordingFile(const fs::path& path) { return fs::is_regular_file(path) && internal::LooksLikeSens(path); }
+
 Trajectory LoadGroundTruth(const fs::path& path, IoOptions io, std::optional<RgbdSequence>* dataset) {
-  if (fs::is_directory(path) || path.extension() == ".conf") {
+  if (fs::is_directory(path) || path.extension() == ".conf" || IsRecordingFile(path)) {
     io.check_files = false;
     *dataset = ReadSequence(path, io);
     if (!(*dataset)->ground_truth) ThrowInputError(path, "dataset has no ground-truth trajectory");

@@ -14,7 +14,7 @@
 
 namespace f2c {
 
-enum class DatasetLayout { kTum, kSevenScenes, kRedwood, kSun3d, kConf };
+enum class DatasetLayout { kTum, kSevenScenes, kRedwood, kSun3d, kConf, kSens };
 std::string LayoutName(DatasetLayout layout);
 
 // How the 16-bit values of a depth PNG are stored.
@@ -23,18 +23,44 @@ enum class DepthEncoding {
   kSun3dBitRotated,  // SUN3D: depth_mm = (v >> 3) | (v << 13) in 16 bits
 };
 
+// An image stored inside a recording (a ScanNet .sens file) rather than in a file of its own:
+// `size` bytes at `offset` of the frame's path.
+struct EmbeddedImage {
+  enum class Format {
+    kEncoded,  // PNG or JPEG bytes
+    kRgb8,     // width x height x 3 bytes, R G B
+    kRawU16,   // width x height little-endian uint16
+    kZlibU16,  // the same, zlib-compressed
+  };
+  uint64_t offset = 0;
+  uint64_t size = 0;
+  Format format = Format::kEncoded;
+  int width = 0, height = 0;  // the raw formats'
+};
+
 struct RgbdFrame {
   double timestamp = 0;  // seconds
   std::filesystem::path color_path;
   std::filesystem::path depth_path;
   std::string name;  // short name for logs and .conf files (the depth file's name)
+  // Set when the image lies inside the file at color_path / depth_path.
+  std::optional<EmbeddedImage> color_embedded, depth_embedded;
+};
+
+// A colour camera other than the depth camera (recordings whose two sensors differ in
+// resolution, intrinsics or place): colour is resampled into the depth camera when it is
+// read (LoadColor), so every stage sees one camera, the depth's.
+struct ColorCamera {
+  CameraIntrinsics intrinsics;  // pinhole, with its image size
+  Rigid3d color_from_depth = Rigid3d::Identity();
 };
 
 struct RgbdSequence {
   std::filesystem::path root;
   DatasetLayout layout = DatasetLayout::kTum;
   std::vector<RgbdFrame> frames;
-  std::optional<CameraIntrinsics> intrinsics;  // TUM folders carry none
+  std::optional<CameraIntrinsics> intrinsics;  // the depth camera's; TUM folders carry none
+  std::optional<ColorCamera> color_camera;     // only where colour is another camera
   std::string intrinsics_source;               // file or option it came from
   double depth_scale = 0.001;                  // metres per unit (after decoding)
   std::vector<uint16_t> invalid_depth_values{0};
@@ -101,6 +127,10 @@ Trajectory PlaceAtFrames(Trajectory trajectory, const RgbdSequence& sequence, co
 // The names of the sequence's frames (RgbdFrame::name), in order.
 std::vector<std::string> FrameNames(const RgbdSequence& sequence);
 
+// Whether `path` is a recording (a .sens file, by its content) rather than a trajectory file:
+// a recording's poses are its ground truth, read with its frames.
+bool IsRecordingFile(const std::filesystem::path& path);
+
 // The layout of `path`, or InputError("<path>: unknown dataset layout ...").
 DatasetLayout DetectLayout(const std::filesystem::path& path);
 
@@ -114,5 +144,7 @@ std::string CacheContext(const RgbdSequence& sequence, const std::string& option
 
 // A hash of one frame's depth and colour files' bytes (the caches' per-frame key part).
 uint64_t HashFrameFiles(const RgbdFrame& frame);
+// The hash of a frame's depth image alone (its bytes in a recording when it is embedded).
+uint64_t HashFrameDepth(const RgbdFrame& frame);
 
 }  // namespace f2c

@@ -232,8 +232,8 @@ PoseList PosesFor(const RgbdSequence& sequence, const fs::path& source, const Io
   for (const RgbdFrame& f : sequence.frames) times.push_back(f.timestamp);
   std::optional<RgbdSequence> dataset;
   // A dataset folder gives its ground truth; a file (.conf too) is read as a trajectory.
-  const Trajectory given =
-      fs::is_directory(source) ? LoadGroundTruth(source, io, &dataset) : ReadTrajectoryFile(source);
+  const Trajectory given = fs::is_directory(source) || IsRecordingFile(source) ? LoadGroundTruth(source, io, &dataset)
+                                                                               : ReadTrajectoryFile(source);
   PoseList poses = PosesForFrames(given, times, FrameNames(sequence), source);
   for (size_t k = 1; k < poses.size(); ++k) {
     const double distance = (poses[k].translation() - poses[k - 1].translation()).norm();
