@@ -113,8 +113,6 @@ std::string ReadFileRange(const std::filesystem::path& path, uint64_t offset, ui
   return bytes;
 }
 
-namespace {
-
 // A frame's image: its own file, or the part of a recording it is embedded in.
 cv::Mat ReadFrameImage(const std::filesystem::path& path, const std::optional<EmbeddedImage>& embedded, int flags) {
   if (!embedded) return DecodeImageFile(path, flags);
@@ -160,6 +158,8 @@ cv::Mat ReadFrameImage(const std::filesystem::path& path, const std::optional<Em
   }
   ThrowInputError(where, "unknown embedded image format");
 }
+
+namespace {
 
 // Colour from another camera resampled into the depth camera: each depth pixel's colour is
 // where its point (from its depth; at infinity where it has none) projects in the colour

@@ -14,6 +14,9 @@ namespace f2c {
 cv::Mat DecodeImageFile(const std::filesystem::path& path, int flags);
 // The same for bytes already read; `path` names them in errors.
 cv::Mat DecodeImageBytes(const std::string& bytes, const std::string& path, int flags);
+// A frame's depth or colour image as DecodeImageFile gives it: from its own file, or from
+// the part of a recording it is embedded in (raw and zlib-compressed formats too).
+cv::Mat ReadFrameImage(const std::filesystem::path& path, const std::optional<EmbeddedImage>& embedded, int flags);
 // `size` bytes at `offset` of a file; InputError naming it when they lie past its end.
 std::string ReadFileRange(const std::filesystem::path& path, uint64_t offset, uint64_t size);
 

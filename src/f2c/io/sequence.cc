@@ -165,8 +165,8 @@ RgbdSequence ReadSequence(const fs::path& path, const IoOptions& options) {
     // Intrinsics without an image size (a 3x3 matrix, fx,fy,cx,cy) take the first depth
     // image's; every frame is then checked against it when decoded.
     if (sequence.intrinsics && !sequence.intrinsics->size_known) {
-      const fs::path& first = sequence.frames.front().depth_path;
-      const cv::Mat depth = DecodeImageFile(first, cv::IMREAD_UNCHANGED);
+      const RgbdFrame& first = sequence.frames.front();
+      const cv::Mat depth = ReadFrameImage(first.depth_path, first.depth_embedded, cv::IMREAD_UNCHANGED);
       sequence.intrinsics->width = depth.cols;
       sequence.intrinsics->height = depth.rows;
       sequence.intrinsics->size_known = true;
