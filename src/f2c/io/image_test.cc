@@ -1,5 +1,6 @@
 #include "f2c/io/image.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
@@ -173,7 +174,7 @@ TEST(RequireSomeValidDepth, NoFrameWithDepthIsAnError) {
   seq.invalid_depth_values = {0, 65535};
   for (int k = 0; k < 9; ++k) {
     RgbdFrame frame;
-    frame.depth_path = dir / ("d" + std::to_string(k) + ".png");
+    frame.depth_path = dir / fmt::format("d{}.png", k);
     frame.color_path = dir / "c.png";
     cv::imwrite(frame.depth_path.string(), cv::Mat(480, 640, CV_16U, cv::Scalar(k % 2 == 0 ? 0 : 65535)));
     seq.frames.push_back(frame);

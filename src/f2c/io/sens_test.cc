@@ -110,6 +110,20 @@ TEST(ReadSens, RawColourAndRawDepth) {
   EXPECT_LE(worst, 1.0 / 5000 + 1e-6);
 }
 
+// --intrinsics without an image size over a recording: the size from its first depth image,
+// read from its place in the recording.
+TEST(ReadSens, IntrinsicsOptionTakesTheSizeFromTheRecording) {
+  const fs::path path = testing::FreshTempDir("sens_intrinsics") / "scan.sens";
+  testing::WriteSyntheticSens(path, testing::SyntheticScene(), Walk(2));
+  IoOptions io;
+  io.intrinsics = "520,521,319,239";
+  const RgbdSequence seq = ReadSequence(path, io);
+  ASSERT_TRUE(seq.intrinsics);
+  EXPECT_DOUBLE_EQ(seq.intrinsics->fx, 520.0);
+  EXPECT_EQ(seq.intrinsics->width, 640);
+  EXPECT_EQ(seq.intrinsics->height, 480);
+}
+
 TEST(ReadSens, DamagedRecordings) {
   const fs::path dir = testing::FreshTempDir("sens_bad");
   const fs::path good = dir / "good.sens";
