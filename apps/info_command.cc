@@ -17,6 +17,10 @@ namespace {
 
 // The selected frames and what a script needs to read them itself (bench/run_benchmarks.sh
 // hands them to a peer): one JSON object on stdout.
+nlohmann::json CameraJson(const CameraIntrinsics& k) {
+  return {{"fx", k.fx}, {"fy", k.fy}, {"cx", k.cx}, {"cy", k.cy}, {"width", k.width}, {"height", k.height}};
+}
+
 int PrintJson(const RgbdSequence& seq) {
   nlohmann::json frames = nlohmann::json::array();
   for (const RgbdFrame& f : seq.frames) {
@@ -34,32 +38,20 @@ int PrintJson(const RgbdSequence& seq) {
                       {"ground_truth", seq.ground_truth ? seq.ground_truth_source.string() : ""},
                       {"frames", frames}};
   if (seq.intrinsics) {
-    const CameraIntrinsics& k = *seq.intrinsics;
-    j["intrinsics"] = {{"fx", k.fx},
-                       {"fy", k.fy},
-                       {"cx", k.cx},
-                       {"cy", k.cy},
-                       {"width", k.width},
-                       {"height", k.height},
-                       {"distortion", k.distortion},
-                       {"source", seq.intrinsics_source}};
+    j["intrinsics"] = CameraJson(*seq.intrinsics);
+    j["intrinsics"]["distortion"] = seq.intrinsics->distortion;
+    j["intrinsics"]["source"] = seq.intrinsics_source;
   } else {
     j["intrinsics"] = nullptr;
   }
   if (seq.color_camera) {
-    const CameraIntrinsics& c = seq.color_camera->intrinsics;
     const Eigen::Matrix4d m = seq.color_camera->color_from_depth.matrix();
     std::vector<double> rows;  // row-major, as the .sens and .log files hold matrices
     for (int r = 0; r < 4; ++r) {
       for (int c = 0; c < 4; ++c) rows.push_back(m(r, c));
     }
-    j["color_camera"] = {{"fx", c.fx},
-                         {"fy", c.fy},
-                         {"cx", c.cx},
-                         {"cy", c.cy},
-                         {"width", c.width},
-                         {"height", c.height},
-                         {"color_from_depth", rows}};
+    j["color_camera"] = CameraJson(seq.color_camera->intrinsics);
+    j["color_camera"]["color_from_depth"] = rows;
   }
   std::printf("%s\n", j.dump(2).c_str());
   return 0;

@@ -170,9 +170,22 @@ cv::Mat ColorIntoDepthCamera(const RgbdSequence& sequence, const RgbdFrame& fram
   const CameraIntrinsics& kc = camera.intrinsics;
   const Eigen::Matrix3d r = camera.color_from_depth.linear();
   const Eigen::Vector3d t = camera.color_from_depth.translation();
-  // A translation makes the mapping depend on depth; without one it is a homography.
+  // A translation makes the mapping depend on depth; without one it is a homography, the
+  // same for every frame: computed once per thread and camera pair.
   cv::Mat depth;
   if (t.norm() > 0) depth = LoadDepthMeters(sequence, frame);
+  thread_local std::vector<double> fixed_key;
+  thread_local cv::Mat fixed_x, fixed_y;
+  const Eigen::Matrix4d m = camera.color_from_depth.matrix();
+  std::vector<double> key = {kd.fx, kd.fy, kd.cx, kd.cy, double(kd.width), double(kd.height),
+                             kc.fx, kc.fy, kc.cx, kc.cy};
+  key.insert(key.end(), m.data(), m.data() + 16);
+  const bool fixed = depth.empty();
+  if (fixed && key == fixed_key) {
+    cv::Mat out;
+    cv::remap(color, out, fixed_x, fixed_y, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    return out;
+  }
   cv::Mat map_x(kd.height, kd.width, CV_32F), map_y(kd.height, kd.width, CV_32F);
   for (int v = 0; v < kd.height; ++v) {
     for (int u = 0; u < kd.width; ++u) {
@@ -184,6 +197,7 @@ cv::Mat ColorIntoDepthCamera(const RgbdSequence& sequence, const RgbdFrame& fram
       map_y.at<float>(v, u) = ahead ? static_cast<float>(kc.fy * p.y() / p.z() + kc.cy) : -1.0f;
     }
   }
+  if (fixed) fixed_key = key, fixed_x = map_x, fixed_y = map_y;
   cv::Mat out;
   cv::remap(color, out, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
   return out;
