@@ -204,8 +204,9 @@ Subcommand AddEvaluateCommand(CLI::App* app) {
                                       "ATE (after rigid alignment) and RPE (per frame, per second) of a trajectory, "
                                       "as the TUM benchmark tools compute them");
   cmd->add_option("--estimate", args->estimate, "trajectory: TUM text, .log or .conf")->required();
-  cmd->add_option("--ground-truth", args->ground_truth,
-                  "ground truth: a trajectory file, or a dataset folder or .sens recording that has one")
+  cmd->add_option(
+         "--ground-truth", args->ground_truth,
+         "ground truth: a trajectory file, or a dataset folder or .sens recording that has one (ROS bags carry none)")
       ->required();
   cmd->add_flag("--json", args->json, "print JSON instead of a table");
   cmd->add_option("--correspondences", args->correspondences,

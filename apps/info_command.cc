@@ -37,6 +37,7 @@ int PrintJson(const RgbdSequence& seq) {
                       {"depth_encoding", seq.depth_encoding == DepthEncoding::kSun3dBitRotated ? "sun3d" : "plain"},
                       {"ground_truth", seq.ground_truth ? seq.ground_truth_source.string() : ""},
                       {"frames", frames}};
+  if (!seq.streams.empty()) j["streams"] = seq.streams;
   if (seq.intrinsics) {
     j["intrinsics"] = CameraJson(*seq.intrinsics);
     j["intrinsics"]["distortion"] = seq.intrinsics->distortion;
@@ -66,6 +67,7 @@ int RunInfo(const InfoArgs& args) {
   std::printf("layout       %s\n", LayoutName(seq.layout).c_str());
   std::printf("frames       %zu (%.3f .. %.3f s)\n", seq.frames.size(), seq.frames.front().timestamp,
               seq.frames.back().timestamp);
+  for (const std::string& stream : seq.streams) std::printf("stream       %s\n", stream.c_str());
   if (seq.intrinsics) {
     const CameraIntrinsics& k = *seq.intrinsics;
     std::printf("intrinsics   fx %.3f fy %.3f cx %.3f cy %.3f (%s)\n", k.fx, k.fy, k.cx, k.cy,
@@ -120,7 +122,7 @@ Subcommand AddInfoCommand(CLI::App* app) {
   CLI::App* cmd = app->add_subcommand("info",
                                       "what a dataset folder holds: layout, frames, "
                                       "intrinsics, depth range, ground truth");
-  cmd->add_option("INPUT", args->input, "dataset folder, .conf or .sens recording")->required();
+  cmd->add_option("INPUT", args->input, "dataset folder, .conf, or a recording (.sens, ROS bag)")->required();
   AddFieldFlags(cmd, &args->io);
   cmd->add_flag("--json", args->json,
                 "print JSON instead: layout, intrinsics, depth scale, ground truth and every selected frame's time "

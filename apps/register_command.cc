@@ -85,8 +85,9 @@ Subcommand AddRegisterCommand(CLI::App* app) {
       "align the frames (keyframe odometry: tracking, SIFT + 3D RANSAC, ICP fallback) into T0, refine "
       "it fine-to-coarse, fuse a mesh and write OUTDIR/trajectory.txt (TUM), trajectory.log, "
       "trajectory.conf, trajectory_t0.txt, mesh.ply, odometry.json, run.json");
-  cmd->add_option("INPUT", args->input,
-                  "dataset folder (TUM, 7-Scenes/3DMatch, Redwood/Open3D, SUN3D), .conf or .sens recording")
+  cmd->add_option(
+         "INPUT", args->input,
+         "dataset folder (TUM, 7-Scenes/3DMatch, Redwood/Open3D, SUN3D), .conf, or a recording (.sens, ROS bag)")
       ->required();
   cmd->add_option("-o,--output", args->output, "output folder")->required();
   AddFieldFlags(cmd, &args->io);

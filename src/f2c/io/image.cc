@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <string_view>
 #include <tuple>
@@ -19,6 +20,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "f2c/io/block.h"
 #include "f2c/io/jpeg.h"
 #include "f2c/io/png.h"
 #include "f2c/util/error.h"
@@ -113,45 +115,127 @@ std::string ReadFileRange(const std::filesystem::path& path, uint64_t offset, ui
   return bytes;
 }
 
+std::string ReadEmbeddedBytes(const std::filesystem::path& path, const EmbeddedImage& e) {
+  if (!e.block) return ReadFileRange(path, e.offset, e.size);
+  const std::shared_ptr<const std::string> block = ReadBlock(path, *e.block);
+  if (e.offset > block->size() || e.size > block->size() - e.offset) {
+    ThrowInputError(path, fmt::format("{} bytes at {} of a {} chunk lie past its end ({} bytes)", e.size, e.offset,
+                                      CompressionName(e.block->compression), block->size()));
+  }
+  return block->substr(e.offset, e.size);
+}
+
+namespace {
+
+// The rows of a raw image: `bytes` holds `height` rows of `step` bytes (packed when step is
+// 0), each starting with `width` pixels of `pixel_bytes`.
+cv::Mat RawImage(const std::string& bytes, const EmbeddedImage& e, int type, const std::string& where) {
+  const uint64_t pixel_bytes = CV_ELEM_SIZE(type);
+  const uint64_t row = static_cast<uint64_t>(e.width) * pixel_bytes;
+  const uint64_t step = e.step == 0 ? row : e.step;
+  if (e.width <= 0 || e.height <= 0 || step < row || bytes.size() != step * static_cast<uint64_t>(e.height)) {
+    ThrowInputError(where, fmt::format("raw image of {} bytes for {}x{} pixels of {} bytes in rows of {}", bytes.size(),
+                                       e.width, e.height, pixel_bytes, step));
+  }
+  return cv::Mat(e.height, e.width, type, const_cast<char*>(bytes.data()), step);
+}
+
+cv::Mat ConvertColor(const cv::Mat& raw, int flags, int to_bgr, int to_gray) {
+  if (flags != cv::IMREAD_COLOR && flags != cv::IMREAD_GRAYSCALE) return raw.clone();
+  cv::Mat out;
+  // Grey from RGB(A) or BGR(A) as from a PNG of the same pixels (io/png.h).
+  if (flags == cv::IMREAD_GRAYSCALE && (raw.channels() == 3 || raw.channels() == 4) && raw.depth() == CV_8U) {
+    const bool blue_first = to_bgr == -1 || to_bgr == cv::COLOR_BGRA2BGR;
+    out.create(raw.rows, raw.cols, CV_8UC1);
+    for (int y = 0; y < raw.rows; ++y) {
+      ColorRowToGreyAsPng(raw.ptr<uint8_t>(y), raw.channels(), blue_first, out.ptr<uint8_t>(y), raw.cols);
+    }
+    return out;
+  }
+  const int code = flags == cv::IMREAD_GRAYSCALE ? to_gray : to_bgr;
+  if (code < 0) {
+    out = raw.clone();
+  } else {
+    cv::cvtColor(raw, out, code);
+  }
+  return out;
+}
+
+}  // namespace
+
 // A frame's image: its own file, or the part of a recording it is embedded in.
 cv::Mat ReadFrameImage(const std::filesystem::path& path, const std::optional<EmbeddedImage>& embedded, int flags) {
   if (!embedded) return DecodeImageFile(path, flags);
   const EmbeddedImage& e = *embedded;
-  const std::string where = fmt::format("{} (bytes {}-{})", path.string(), e.offset, e.offset + e.size);
-  const std::string bytes = ReadFileRange(path, e.offset, e.size);
-  const size_t pixels = static_cast<size_t>(e.width) * static_cast<size_t>(e.height);
+  const std::string where = e.block
+                                ? fmt::format("{} ({} bytes at {} of the {} chunk at byte {})", path.string(), e.size,
+                                              e.offset, CompressionName(e.block->compression), e.block->offset)
+                                : fmt::format("{} (bytes {}-{})", path.string(), e.offset, e.offset + e.size);
+  const std::string bytes = ReadEmbeddedBytes(path, e);
+  using F = EmbeddedImage::Format;
   switch (e.format) {
-    case EmbeddedImage::Format::kEncoded:
+    case F::kEncoded:
       return DecodeImageBytes(bytes, where, flags);
-    case EmbeddedImage::Format::kRgb8: {
-      if (bytes.size() != pixels * 3) {
-        ThrowInputError(where, fmt::format("raw colour of {} bytes for {}x{} pixels", bytes.size(), e.width, e.height));
-      }
-      cv::Mat rgb(e.height, e.width, CV_8UC3, const_cast<char*>(bytes.data()));
-      cv::Mat out;
-      cv::cvtColor(rgb, out, flags == cv::IMREAD_GRAYSCALE ? cv::COLOR_RGB2GRAY : cv::COLOR_RGB2BGR);
-      return out;
+    case F::kRgb8:
+      return ConvertColor(RawImage(bytes, e, CV_8UC3, where), flags, cv::COLOR_RGB2BGR, cv::COLOR_RGB2GRAY);
+    case F::kBgr8:
+      return ConvertColor(RawImage(bytes, e, CV_8UC3, where), flags, -1, cv::COLOR_BGR2GRAY);
+    case F::kRgba8:
+      return ConvertColor(RawImage(bytes, e, CV_8UC4, where), flags, cv::COLOR_RGBA2BGR, cv::COLOR_RGBA2GRAY);
+    case F::kBgra8:
+      return ConvertColor(RawImage(bytes, e, CV_8UC4, where), flags, cv::COLOR_BGRA2BGR, cv::COLOR_BGRA2GRAY);
+    case F::kMono8:
+      return ConvertColor(RawImage(bytes, e, CV_8UC1, where), flags, cv::COLOR_GRAY2BGR, -1);
+    case F::kYuyv:
+    case F::kUyvy: {
+      if (e.width % 2 != 0) ThrowInputError(where, fmt::format("YUV 4:2:2 image of odd width {}", e.width));
+      const bool yuyv = e.format == F::kYuyv;
+      return ConvertColor(RawImage(bytes, e, CV_8UC2, where), flags,
+                          yuyv ? cv::COLOR_YUV2BGR_YUYV : cv::COLOR_YUV2BGR_UYVY,
+                          yuyv ? cv::COLOR_YUV2GRAY_YUYV : cv::COLOR_YUV2GRAY_UYVY);
     }
-    case EmbeddedImage::Format::kRawU16:
-    case EmbeddedImage::Format::kZlibU16: {
+    case F::kRawU16: {
+      cv::Mat depth = RawImage(bytes, e, CV_16UC1, where).clone();  // little-endian, as this machine
+      if (e.big_endian) {
+        for (int y = 0; y < depth.rows; ++y) {
+          uint16_t* row = depth.ptr<uint16_t>(y);
+          for (int x = 0; x < depth.cols; ++x) row[x] = static_cast<uint16_t>((row[x] >> 8) | (row[x] << 8));
+        }
+      }
+      return depth;
+    }
+    case F::kFloat32: {
+      // Metres to the sequence's uint16 unit, rounded; no depth (NaN, 0, negative) and depth
+      // beyond the unit's range are 0, invalid.
+      if (!(e.float_unit > 0)) ThrowInputError(where, "float depth without its unit");
+      const cv::Mat metres = RawImage(bytes, e, CV_32FC1, where);
       cv::Mat depth(e.height, e.width, CV_16UC1);
-      const size_t want = pixels * 2;
-      if (e.format == EmbeddedImage::Format::kRawU16) {
-        if (bytes.size() != want) {
-          ThrowInputError(where,
-                          fmt::format("raw depth of {} bytes for {}x{} pixels", bytes.size(), e.width, e.height));
+      for (int y = 0; y < depth.rows; ++y) {
+        const char* in = reinterpret_cast<const char*>(metres.ptr(y));
+        uint16_t* out = depth.ptr<uint16_t>(y);
+        for (int x = 0; x < depth.cols; ++x) {
+          uint32_t word;
+          std::memcpy(&word, in + 4 * x, 4);
+          if (e.big_endian) word = __builtin_bswap32(word);
+          float f;
+          std::memcpy(&f, &word, 4);
+          const double units = std::round(static_cast<double>(f) / e.float_unit);
+          out[x] = std::isfinite(f) && units > 0 && units <= 65535 ? static_cast<uint16_t>(units) : 0;
         }
-        std::memcpy(depth.data, bytes.data(), want);  // little-endian, as this machine
-      } else {
-        thread_local std::unique_ptr<libdeflate_decompressor, void (*)(libdeflate_decompressor*)> inflater(
-            libdeflate_alloc_decompressor(), libdeflate_free_decompressor);
-        size_t got = 0;
-        if (libdeflate_zlib_decompress(inflater.get(), bytes.data(), bytes.size(), depth.data, want, &got) !=
-                LIBDEFLATE_SUCCESS ||
-            got != want) {
-          ThrowInputError(where,
-                          fmt::format("damaged zlib depth (not {} bytes of {}x{} depth)", want, e.width, e.height));
-        }
+      }
+      return depth;
+    }
+    case F::kZlibU16: {
+      cv::Mat depth(e.height, e.width, CV_16UC1);
+      const size_t want = static_cast<size_t>(e.width) * static_cast<size_t>(e.height) * 2;
+      thread_local std::unique_ptr<libdeflate_decompressor, void (*)(libdeflate_decompressor*)> inflater(
+          libdeflate_alloc_decompressor(), libdeflate_free_decompressor);
+      size_t got = 0;
+      if (libdeflate_zlib_decompress(inflater.get(), bytes.data(), bytes.size(), depth.data, want, &got) !=
+              LIBDEFLATE_SUCCESS ||
+          got != want) {
+        ThrowInputError(where,
+                        fmt::format("damaged zlib depth (not {} bytes of {}x{} depth)", want, e.width, e.height));
       }
       return depth;
     }

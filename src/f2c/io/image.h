@@ -19,6 +19,8 @@ cv::Mat DecodeImageBytes(const std::string& bytes, const std::string& path, int 
 cv::Mat ReadFrameImage(const std::filesystem::path& path, const std::optional<EmbeddedImage>& embedded, int flags);
 // `size` bytes at `offset` of a file; InputError naming it when they lie past its end.
 std::string ReadFileRange(const std::filesystem::path& path, uint64_t offset, uint64_t size);
+// An embedded image's stored bytes (from its compressed block where it has one).
+std::string ReadEmbeddedBytes(const std::filesystem::path& path, const EmbeddedImage& embedded);
 
 // Depth in metres (CV_32F); invalid pixels are 0. Checks: the file decodes, is 16-bit single
 // channel, and has the intrinsics' size when intrinsics are known. When the intrinsics carry

@@ -220,4 +220,13 @@ DecodeStatus DecodePng(std::string_view bytes, PngRequest request, cv::Mat* out,
   return DecodeStatus::kDecoded;
 }
 
+void ColorRowToGreyAsPng(const uint8_t* pixels, int channels, bool blue_first, uint8_t* out, int width) {
+  const int r_at = blue_first ? 2 : 0, b_at = blue_first ? 0 : 2;
+  for (int x = 0; x < width; ++x, pixels += channels) {
+    const uint32_t r = pixels[r_at], g = pixels[1], b = pixels[b_at];
+    out[x] =
+        r == g && r == b ? static_cast<uint8_t>(r) : static_cast<uint8_t>((kRed * r + kGreen * g + kBlue * b) >> 15);
+  }
+}
+
 }  // namespace f2c

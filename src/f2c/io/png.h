@@ -36,4 +36,9 @@ DecodeStatus DecodePng(std::string_view bytes, PngRequest request, cv::Mat* out,
 DecodeStatus DecodePngWithLibpng(std::string_view bytes, PngRequest request, cv::Mat* out,
                                  std::string* problem = nullptr);
 
+// Colour pixels (3 or 4 channels, R first or B first) to grey as a PNG of the same pixels
+// decodes to grey (libpng's weights and rounding, above): raw colour in a recording and the
+// same colour in a PNG file give the same grey image.
+void ColorRowToGreyAsPng(const uint8_t* pixels, int channels, bool blue_first, uint8_t* out, int width);
+
 }  // namespace f2c

@@ -14,6 +14,9 @@ RgbdSequence ReadSun3d(const std::filesystem::path& dir, const IoOptions& option
 // A ScanNet / BundleFusion .sens recording (readers_sens.cc), and whether a file starts as one.
 RgbdSequence ReadSens(const std::filesystem::path& path, const IoOptions& options);
 bool LooksLikeSens(const std::filesystem::path& path);
+// A ROS 1 bag (readers_rosbag.cc), and whether a file starts as one (any version).
+RgbdSequence ReadRosbag(const std::filesystem::path& path, const IoOptions& options);
+bool LooksLikeRosbag(const std::filesystem::path& path);
 
 // Open3D's PinholeCameraIntrinsic JSON: width, height, intrinsic_matrix (column-major 3x3).
 CameraIntrinsics ReadOpen3dIntrinsics(const std::filesystem::path& path);

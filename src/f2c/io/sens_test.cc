@@ -137,7 +137,7 @@ TEST(ReadSens, DamagedRecordings) {
   std::string v3 = bytes;
   v3[0] = 3;
   // Not version 4 is not taken for a recording at all.
-  EXPECT_EQ(error(v3), path.string() + ": not a dataset folder, .conf or .sens file");
+  EXPECT_EQ(error(v3), path.string() + ": not a dataset folder, .conf, .sens or ROS bag file");
   const size_t header = 4 + 8 + 16 + 4 * 16 * 4;  // version, name, four matrices
   std::string occi = bytes;
   occi[header + 4] = 2;

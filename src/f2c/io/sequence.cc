@@ -30,6 +30,8 @@ std::string LayoutName(DatasetLayout layout) {
       return "conf";
     case DatasetLayout::kSens:
       return "sens";
+    case DatasetLayout::kRosbag:
+      return "rosbag";
   }
   return "?";
 }
@@ -97,8 +99,10 @@ DatasetLayout DetectLayout(const fs::path& path) {
   if (!fs::exists(path, ec)) ThrowInputError(path, "no such file or folder");
   if (fs::is_regular_file(path)) {
     if (path.extension() == ".conf") return DatasetLayout::kConf;
-    if (internal::LooksLikeSens(path)) return DatasetLayout::kSens;  // by content, whatever its name
-    ThrowInputError(path, "not a dataset folder, .conf or .sens file");
+    // Recordings by their content, whatever their names.
+    if (internal::LooksLikeSens(path)) return DatasetLayout::kSens;
+    if (internal::LooksLikeRosbag(path)) return DatasetLayout::kRosbag;
+    ThrowInputError(path, "not a dataset folder, .conf, .sens or ROS bag file");
   }
   if (fs::is_empty(path, ec)) ThrowInputError(path, "folder is empty");
   if (fs::exists(path / "rgb.txt") && fs::exists(path / "depth.txt")) return DatasetLayout::kTum;
@@ -135,6 +139,9 @@ RgbdSequence ReadSequence(const fs::path& path, const IoOptions& options) {
       break;
     case DatasetLayout::kSens:
       sequence = internal::ReadSens(path, options);
+      break;
+    case DatasetLayout::kRosbag:
+      sequence = internal::ReadRosbag(path, options);
       break;
     case DatasetLayout::kConf: {
       const fs::path conf_path = fs::is_directory(path) ? ConfFilesIn(path)[0] : path;
@@ -189,7 +196,7 @@ namespace {
 
 uint64_t HashImage(const fs::path& path, const std::optional<EmbeddedImage>& embedded) {
   if (!embedded) return HashFile(path);
-  return HashBytes(ReadFileRange(path, embedded->offset, embedded->size));
+  return HashBytes(ReadEmbeddedBytes(path, *embedded));
 }
 
 }  // namespace
@@ -235,7 +242,9 @@ Trajectory PlaceAtFrames(Trajectory trajectory, const RgbdSequence& sequence, co
   return placed;
 }
 
-bool IsRecordingFile(const fs::path& path) { return fs::is_regular_file(path) && internal::LooksLikeSens(path); }
+bool IsRecordingFile(const fs::path& path) {
+  return fs::is_regular_file(path) && (internal::LooksLikeSens(path) || internal::LooksLikeRosbag(path));
+}
 
 Trajectory LoadGroundTruth(const fs::path& path, IoOptions io, std::optional<RgbdSequence>* dataset) {
   if (fs::is_directory(path) || path.extension() == ".conf" || IsRecordingFile(path)) {

@@ -14,7 +14,7 @@
 
 namespace f2c {
 
-enum class DatasetLayout { kTum, kSevenScenes, kRedwood, kSun3d, kConf, kSens };
+enum class DatasetLayout { kTum, kSevenScenes, kRedwood, kSun3d, kConf, kSens, kRosbag };
 std::string LayoutName(DatasetLayout layout);
 
 // How the 16-bit values of a depth PNG are stored.
@@ -23,19 +23,37 @@ enum class DepthEncoding {
   kSun3dBitRotated,  // SUN3D: depth_mm = (v >> 3) | (v << 13) in 16 bits
 };
 
-// An image stored inside a recording (a ScanNet .sens file) rather than in a file of its own:
-// `size` bytes at `offset` of the frame's path.
+// An image stored inside a recording (a ScanNet .sens file, a ROS bag) rather than in a file
+// of its own: `size` bytes at `offset` of the frame's path, or of the uncompressed bytes of a
+// compressed block of it (a bag's bz2 or lz4 chunk).
 struct EmbeddedImage {
   enum class Format {
     kEncoded,  // PNG or JPEG bytes
     kRgb8,     // width x height x 3 bytes, R G B
-    kRawU16,   // width x height little-endian uint16
+    kBgr8,     // B G R
+    kRgba8,    // R G B A
+    kBgra8,    // B G R A
+    kMono8,    // grey
+    kYuyv,     // YUV 4:2:2, Y0 U Y1 V (ROS yuv422_yuy2, RealSense YUYV)
+    kUyvy,     // YUV 4:2:2, U Y0 V Y1 (ROS yuv422)
+    kRawU16,   // width x height uint16 (little-endian unless big_endian)
     kZlibU16,  // the same, zlib-compressed
+    kFloat32,  // width x height float metres (ROS 32FC1): quantised to float_unit per uint16
+  };
+  enum class Compression { kNone, kBz2, kLz4 };
+  struct Block {
+    uint64_t offset = 0, size = 0;  // the compressed bytes in the file
+    uint64_t uncompressed_size = 0;
+    Compression compression = Compression::kNone;
   };
   uint64_t offset = 0;
   uint64_t size = 0;
   Format format = Format::kEncoded;
   int width = 0, height = 0;  // the raw formats'
+  uint64_t step = 0;          // bytes per row of the raw formats (0: rows packed)
+  bool big_endian = false;    // kRawU16 and kFloat32
+  double float_unit = 0;      // kFloat32: metres per unit of the uint16 depth it becomes
+  std::optional<Block> block;
 };
 
 struct RgbdFrame {
@@ -67,6 +85,8 @@ struct RgbdSequence {
   DepthEncoding depth_encoding = DepthEncoding::kPlain;
   std::optional<Trajectory> ground_truth;  // camera-to-world
   std::filesystem::path ground_truth_source;
+  // Recordings: the streams read ("depth: /camera/depth/image (32FC1, 798 images)"), for info.
+  std::vector<std::string> streams;
 };
 
 struct IoOptions {
@@ -89,6 +109,12 @@ struct IoOptions {
   std::string sequence;
   // Check every listed image exists when reading (cheap; catches missing frames up front).
   bool check_files = true;
+  // ROS bags: the topics to read (empty: found by name for RealSense recordings, else the one
+  // depth and the one colour image topic) and the depth camera's CameraInfo topic (empty: the
+  // depth topic's sibling camera_info).
+  std::string depth_topic, color_topic, camera_info_topic;
+  // ROS bags: metres per unit of 16-bit depth (0: the recording's own, else 0.001).
+  double depth_scale = 0;
 
   template <class V>
   void Fields(V& v) {
@@ -106,6 +132,14 @@ struct IoOptions {
               "TUM: colour and depth images this close in time (s) are a frame");
     F2C_FIELD(v, assumed_fps, "", Positive(), "frame rate of layouts without timestamps");
     F2C_FIELD(v, check_files, "", {}, "check that every listed image exists");
+    F2C_FIELD(v, depth_topic, "--depth-topic", {},
+              "ROS bags: the depth image topic (default: RealSense's, else the one depth image topic)");
+    F2C_FIELD(v, color_topic, "--color-topic", {},
+              "ROS bags: the colour image topic (default: RealSense's, else the one colour image topic)");
+    F2C_FIELD(v, camera_info_topic, "--camera-info-topic", {},
+              "ROS bags: the depth camera's CameraInfo topic (default: the depth topic's camera_info)");
+    F2C_FIELD(v, depth_scale, "--depth-scale", AtLeast(0.0),
+              "ROS bags: metres per unit of 16-bit depth (0: the recording's own, else 0.001)");
   }
   void Check() const;  // InputError naming the option when out of range
 };

@@ -1,0 +1,107 @@
+#include "f2c/io/block.h"
+
+#include <bzlib.h>
+#include <fmt/format.h>
+#include <lz4frame.h>
+
+#include <limits>
+#include <tuple>
+
+#include "f2c/io/image.h"
+#include "f2c/util/error.h"
+
+namespace f2c {
+
+std::string CompressionName(EmbeddedImage::Compression compression) {
+  switch (compression) {
+    case EmbeddedImage::Compression::kNone:
+      return "none";
+    case EmbeddedImage::Compression::kBz2:
+      return "bz2";
+    case EmbeddedImage::Compression::kLz4:
+      return "lz4";
+  }
+  return "?";
+}
+
+namespace {
+
+std::string DecompressBz2(const std::string& in, uint64_t size, const std::string& where) {
+  std::string out(size, '\0');
+  bz_stream s{};
+  if (BZ2_bzDecompressInit(&s, 0, 0) != BZ_OK) ThrowInputError(where, "cannot start bz2 decompression");
+  s.next_in = const_cast<char*>(in.data());
+  s.avail_in = static_cast<unsigned>(in.size());
+  s.next_out = out.data();
+  s.avail_out = static_cast<unsigned>(out.size());
+  const int status = BZ2_bzDecompress(&s);
+  const uint64_t got = out.size() - s.avail_out;
+  BZ2_bzDecompressEnd(&s);
+  if (status != BZ_STREAM_END || got != size) {
+    ThrowInputError(where, status == BZ_OK || status == BZ_STREAM_END
+                               ? fmt::format("damaged bz2 chunk (not {} bytes)", size)
+                               : fmt::format("damaged bz2 chunk (bzip2 error {})", status));
+  }
+  return out;
+}
+
+std::string DecompressLz4(const std::string& in, uint64_t size, const std::string& where) {
+  LZ4F_dctx* context = nullptr;
+  if (LZ4F_isError(LZ4F_createDecompressionContext(&context, LZ4F_VERSION))) {
+    ThrowInputError(where, "cannot start lz4 decompression");
+  }
+  std::unique_ptr<LZ4F_dctx, decltype(&LZ4F_freeDecompressionContext)> guard(context, LZ4F_freeDecompressionContext);
+  std::string out(size, '\0');
+  size_t in_pos = 0, out_pos = 0, hint = 1;
+  while (hint != 0 && in_pos < in.size()) {
+    size_t in_n = in.size() - in_pos, out_n = out.size() - out_pos;
+    hint = LZ4F_decompress(context, out.data() + out_pos, &out_n, in.data() + in_pos, &in_n, nullptr);
+    if (LZ4F_isError(hint)) {
+      ThrowInputError(where, fmt::format("damaged lz4 chunk ({})", LZ4F_getErrorName(hint)));
+    }
+    in_pos += in_n;
+    out_pos += out_n;
+    if (in_n == 0 && out_n == 0) break;  // needs room it does not have: more than `size` bytes
+  }
+  if (hint != 0 || out_pos != size) ThrowInputError(where, fmt::format("damaged lz4 chunk (not {} bytes)", size));
+  return out;
+}
+
+}  // namespace
+
+std::string Decompress(const std::string& compressed, EmbeddedImage::Compression compression,
+                       uint64_t uncompressed_size, const std::string& where) {
+  // A bag's chunks are a few megabytes (rosbag's default 768 KiB, larger only to hold one
+  // large message): a size past 1 GiB is damage, not data to allocate for.
+  if (uncompressed_size > (uint64_t{1} << 30) || compressed.size() > (uint64_t{1} << 30)) {
+    ThrowInputError(
+        where, fmt::format("chunk of {} bytes ({} uncompressed; at most 1 GiB)", compressed.size(), uncompressed_size));
+  }
+  switch (compression) {
+    case EmbeddedImage::Compression::kNone:
+      if (compressed.size() != uncompressed_size) {
+        ThrowInputError(where, fmt::format("chunk of {} bytes says {}", compressed.size(), uncompressed_size));
+      }
+      return compressed;
+    case EmbeddedImage::Compression::kBz2:
+      return DecompressBz2(compressed, uncompressed_size, where);
+    case EmbeddedImage::Compression::kLz4:
+      return DecompressLz4(compressed, uncompressed_size, where);
+  }
+  ThrowInputError(where, "unknown compression");
+}
+
+std::shared_ptr<const std::string> ReadBlock(const std::filesystem::path& path, const EmbeddedImage::Block& block) {
+  thread_local std::tuple<std::string, uint64_t, uint64_t> key;
+  thread_local std::shared_ptr<const std::string> bytes;
+  auto wanted = std::make_tuple(path.string(), block.offset, block.size);
+  if (bytes && key == wanted) return bytes;
+  const std::string where =
+      fmt::format("{} ({} chunk at byte {})", path.string(), CompressionName(block.compression), block.offset);
+  bytes = std::make_shared<const std::string>(
+      Decompress(ReadFileRange(path, block.offset, block.size), block.compression, block.uncompressed_size, where));
+  key = std::move(wanted);
+  return bytes;
+}
+
+}  // namespace f2c
