@@ -76,6 +76,19 @@ TEST(CliRosbag, ATumLayoutBagGivesItsFoldersTrajectoryWhateverItsCompression) {
             T0(folder.string(), std::string(" --first 2 --every 2 --intrinsics ") + kIntrinsics, dir / "every_f"));
 }
 
+// Real frames (TUM fr1/desk, 9 frames; colour stored as JPEG) with the colour as
+// CompressedImage messages holding the folder's own JPEG files: the folder's poses exactly.
+TEST(CliRosbag, ARealTumSequenceAndItsBagGiveTheSamePoses) {
+  const fs::path folder = Data("tum_fr1_desk_9");
+  if (!fs::exists(folder)) GTEST_SKIP() << "../shared/data absent";
+  const fs::path dir = testing::FreshTempDir("cli_bag_real");
+  if (!WriteBag(folder, dir / "desk.bag", "--compression lz4 --compressed-color")) {
+    GTEST_SKIP() << "python3-rosbag absent (scripts/setup.sh installs it)";
+  }
+  EXPECT_EQ(T0((dir / "desk.bag").string(), " --intrinsics tum-fr1", dir / "bag"),
+            T0(folder.string(), " --intrinsics tum-fr1", dir / "folder"));
+}
+
 TEST(CliRosbag, ARealSenseRecordingIsFoundByItsTopics) {
   const fs::path folder = SyntheticTum("cli_bag_rs_folder", 8);
   const fs::path dir = testing::FreshTempDir("cli_bag_rs");

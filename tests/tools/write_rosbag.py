@@ -5,7 +5,7 @@ of fine2coarse's bag reader (src/f2c/io/readers_rosbag.cc).
 
   write_rosbag.py FOLDER OUT.bag [--layout tum|realsense] [--compression none|bz2|lz4]
                   [--intrinsics fx,fy,cx,cy] [--extra-color-topic TOPIC]
-                  [--color-camera fx,fy,cx,cy,tx,ty,tz]
+                  [--color-camera fx,fy,cx,cy,tx,ty,tz] [--repeat N] [--compressed-color]
                   [--no-camera-info] [--color-encoding rgb8|bgr8|rgba8|mono8|...]
 
 tum: TUM's own bags' topics: /camera/rgb/image_color (rgb8), /camera/depth/image (32FC1,
@@ -25,7 +25,7 @@ try:
     import rosbag
     import rospy
     from geometry_msgs.msg import Transform
-    from sensor_msgs.msg import CameraInfo, Image
+    from sensor_msgs.msg import CameraInfo, CompressedImage, Image
     from std_msgs.msg import Float32
 except ImportError as e:  # pragma: no cover
     print(f"write_rosbag.py: {e} (apt-get install python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-pil)",
@@ -87,6 +87,10 @@ def main():
     p.add_argument("--color-encoding", default="rgb8")
     p.add_argument("--color-camera", help="realsense: fx,fy,cx,cy,tx,ty,tz: the colour stream's camera info and its "
                    "tf/0 translation (its place in the depth stream's frame)")
+    p.add_argument("--compressed-color", action="store_true", help="colour as sensor_msgs/CompressedImage holding "
+                   "the folder's own image files' bytes (JPEG or PNG), on <colour topic>/compressed")
+    p.add_argument("--repeat", type=int, default=1, help="the frames this many times, one after another "
+                   "(bench/recording_bench.sh: a large bag)")
     p.add_argument("--extra-color-topic", help="a second colour image topic with the same images")
     p.add_argument("--intrinsics", help="fx,fy,cx,cy (default: the folder's camera-intrinsics.txt)")
     a = p.parse_args()
@@ -116,6 +120,13 @@ def main():
         events = [(float(s), "c", s, n, i) for i, (s, n) in enumerate(colors)]
         events += [(float(s), "d", s, n, i) for i, (s, n) in enumerate(depths)]
         events.sort()
+        span = int(events[-1][0] - events[0][0]) + 1
+        repeated = []
+        for r in range(a.repeat):  # each repeat `span` whole seconds later
+            for e in events:
+                sec, frac = e[2].split(".")
+                repeated.append((e[0] + r * span, e[1], f"{int(sec) + r * span}.{frac}", e[3], e[4]))
+        events = repeated
         infos_written = False
         for _, kind, s, name, i in events:
             stamp = rospy.Time(int(s.split(".")[0]), int(round(float("0." + s.split(".")[1]) * 1e9)))
@@ -132,6 +143,15 @@ def main():
                 else:
                     msg = image(pixels, "mono16", stamp, "depth", i)
                 bag.write(depth_topic, msg, stamp)
+            elif a.compressed_color:
+                msg = CompressedImage()
+                msg.header.seq = i
+                msg.header.stamp = stamp
+                msg.header.frame_id = "color"
+                data = open(os.path.join(a.folder, name), "rb").read()
+                msg.format = "png" if data[:4] == b"\x89PNG" else "jpeg"
+                msg.data = data
+                bag.write(color_topic + "/compressed", msg, stamp)
             else:
                 rgb = pixels[:, :, :3]
                 enc = a.color_encoding

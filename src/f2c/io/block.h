@@ -14,6 +14,10 @@ namespace f2c {
 // the file's end, do not decompress, or decompress to another size than the block says. The
 // last block each thread asked for is kept: a chunk holds many messages, read one after another.
 std::shared_ptr<const std::string> ReadBlock(const std::filesystem::path& path, const EmbeddedImage::Block& block);
+// The block's first `n` uncompressed bytes, or more (decompression stops there: a message's
+// header at the start of a chunk of large images costs little). Checked as far as read.
+std::shared_ptr<const std::string> ReadBlockPrefix(const std::filesystem::path& path, const EmbeddedImage::Block& block,
+                                                   uint64_t n);
 
 // `compressed` (bz2 or an LZ4 frame, as roslz4 writes them) decompressed to exactly
 // `uncompressed_size` bytes; InputError naming `where` otherwise.

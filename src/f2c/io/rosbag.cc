@@ -32,7 +32,10 @@ T As(const std::string& bytes, size_t at = 0) {
   return value;
 }
 
-// Reads bytes from the file or from a chunk's uncompressed bytes, bounded by `end`.
+// Thrown where a chunk's decompressed prefix is too short for what is read: read it whole.
+struct NeedMore {};
+
+// Reads bytes from the file or from (a prefix of) a chunk's uncompressed bytes, bounded by `end`.
 struct Source {
   std::ifstream* file = nullptr;
   const std::string* bytes = nullptr;
@@ -43,7 +46,10 @@ struct Source {
       ThrowInputError(
           where, fmt::format("cut short: {} ({} bytes at byte {}) lies past the end ({} bytes)", what, n, pos, end));
     }
-    if (bytes != nullptr) return bytes->substr(pos, n);
+    if (bytes != nullptr) {
+      if (n > bytes->size() || pos > bytes->size() - n) throw NeedMore{};  // a prefix of the chunk, short
+      return bytes->substr(pos, n);
+    }
     std::string out(n, '\0');
     file->clear();
     file->seekg(static_cast<std::streamoff>(pos));
@@ -269,31 +275,45 @@ std::vector<MessageRef> Bag::Messages(const std::string& topic) const {
 MessageData Bag::Read(const MessageRef& message, uint64_t max_bytes) const {
   const Chunk& chunk = chunks_.at(message.chunk);
   const std::string where = fmt::format("{} (message in the chunk at byte {})", path_.string(), chunk.position);
-  MessageData out;
-  std::shared_ptr<const std::string> block;
-  Source source;
-  source.where = where;
-  uint64_t base = 0;
-  if (chunk.block.compression == EmbeddedImage::Compression::kNone) {
-    source.file = in_.get();
-    source.end = chunk.block.offset + chunk.block.size;
-    base = chunk.block.offset;
-  } else {
-    block = ReadBlock(path_, chunk.block);
-    source.bytes = block.get();
-    source.end = block->size();
-    out.block = chunk.block;
+  const bool compressed = chunk.block.compression != EmbeddedImage::Compression::kNone;
+  // From a compressed chunk, first only as much as the message's start needs (its record
+  // header is a few dozen bytes): a chunk of one large image is not decompressed to read its
+  // header. The whole chunk where that was not enough.
+  for (const bool whole : {false, true}) {
+    if (!compressed && whole) break;
+    MessageData out;
+    std::shared_ptr<const std::string> block;
+    Source source;
+    source.where = where;
+    uint64_t base = 0;
+    if (!compressed) {
+      source.file = in_.get();
+      source.end = chunk.block.offset + chunk.block.size;
+      base = chunk.block.offset;
+    } else {
+      const uint64_t prefix =
+          max_bytes == 0 || whole ? chunk.block.uncompressed_size : message.offset + 8 + 4096 + max_bytes;
+      block = ReadBlockPrefix(path_, chunk.block, prefix);
+      source.bytes = block.get();
+      source.end = chunk.block.uncompressed_size;
+      out.block = chunk.block;
+    }
+    try {
+      const Record r = ReadRecord(source, base + message.offset, "a message");
+      if (Op(r.header, where, message.offset) != 0x02) {
+        ThrowInputError(
+            where, fmt::format("the index points at byte {} of the chunk, which is not a message", message.offset));
+      }
+      out.size = r.data_size;
+      out.offset = r.data_pos;
+      const uint64_t n = max_bytes == 0 ? r.data_size : std::min(max_bytes, r.data_size);
+      out.bytes = source.Read(r.data_pos, n, "a message");
+      return out;
+    } catch (const NeedMore&) {
+      if (whole) throw;
+    }
   }
-  const Record r = ReadRecord(source, base + message.offset, "a message");
-  if (Op(r.header, where, message.offset) != 0x02) {
-    ThrowInputError(where,
-                    fmt::format("the index points at byte {} of the chunk, which is not a message", message.offset));
-  }
-  out.size = r.data_size;
-  out.offset = r.data_pos;
-  const uint64_t n = max_bytes == 0 ? r.data_size : std::min(max_bytes, r.data_size);
-  out.bytes = source.Read(r.data_pos, n, "a message");
-  return out;
+  ThrowInputError(where, "cannot read the message");
 }
 
 void MessageReader::Need(uint64_t n) {
