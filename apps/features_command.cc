@@ -76,7 +76,7 @@ Subcommand AddFeaturesCommand(CLI::App* app) {
   CLI::App* cmd = app->add_subcommand("features",
                                       "extract planar proxies and plane/edge features of every frame into "
                                       "OUTDIR/features.f2cf (reused when inputs and options match) and features.json");
-  cmd->add_option("INPUT", args->input, "dataset folder, .conf, or a recording (.sens, ROS bag)")->required();
+  cmd->add_option("INPUT", args->input, "dataset folder, .conf, or a recording (.sens, ROS 1 or 2 bag)")->required();
   cmd->add_option("-o,--output", args->output, "output folder")->required();
   AddFieldFlags(cmd, &args->io);
   AddFieldFlags(cmd, &args->features);

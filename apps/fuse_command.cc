@@ -77,7 +77,7 @@ Subcommand AddFuseCommand(CLI::App* app) {
       "fuse a dataset's frames at a trajectory's poses (TUM, .log or .conf) into a sparse TSDF volume and "
       "write its surface as a coloured triangle mesh (binary PLY)");
   cmd->add_option("INPUT", args->input,
-                  "dataset folder (any layout register reads), .conf, or a recording (.sens, ROS bag)")
+                  "dataset folder (any layout register reads), .conf, or a recording (.sens, ROS 1 or 2 bag)")
       ->required();
   cmd->add_option("--trajectory", args->trajectory, "the poses: TUM text, Redwood .log or the authors' .conf")
       ->required();

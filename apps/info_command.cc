@@ -122,7 +122,7 @@ Subcommand AddInfoCommand(CLI::App* app) {
   CLI::App* cmd = app->add_subcommand("info",
                                       "what a dataset folder holds: layout, frames, "
                                       "intrinsics, depth range, ground truth");
-  cmd->add_option("INPUT", args->input, "dataset folder, .conf, or a recording (.sens, ROS bag)")->required();
+  cmd->add_option("INPUT", args->input, "dataset folder, .conf, or a recording (.sens, ROS 1 or 2 bag)")->required();
   AddFieldFlags(cmd, &args->io);
   cmd->add_flag("--json", args->json,
                 "print JSON instead: layout, intrinsics, depth scale, ground truth and every selected frame's time "

@@ -87,7 +87,7 @@ Subcommand AddRegisterCommand(CLI::App* app) {
       "trajectory.conf, trajectory_t0.txt, mesh.ply, odometry.json, run.json");
   cmd->add_option(
          "INPUT", args->input,
-         "dataset folder (TUM, 7-Scenes/3DMatch, Redwood/Open3D, SUN3D), .conf, or a recording (.sens, ROS bag)")
+         "dataset folder (TUM, 7-Scenes/3DMatch, Redwood/Open3D, SUN3D), .conf, or a recording (.sens, ROS 1 or 2 bag)")
       ->required();
   cmd->add_option("-o,--output", args->output, "output folder")->required();
   AddFieldFlags(cmd, &args->io);

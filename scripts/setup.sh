@@ -17,7 +17,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libceres-dev libsuitesparse-dev libopencv-dev libnanoflann-dev libopenblas0-pthread
-  libdeflate-dev libpng-dev libturbojpeg0-dev libxxhash-dev liblz4-dev libbz2-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libtbb-dev
+  libdeflate-dev libpng-dev libturbojpeg0-dev libxxhash-dev liblz4-dev libbz2-dev libzstd-dev libsqlite3-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev libtinyxml2-dev
   libjs-three chromium
   clang libclang-rt-14-dev clang-format

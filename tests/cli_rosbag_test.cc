@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "f2c/io/trajectory.h"
+#include "f2c/testing/ros2_writer.h"
 #include "f2c/testing/synthetic_scene.h"
 #include "f2c/util/file.h"
 #include "tests/cli_helpers.h"
@@ -184,6 +185,59 @@ TEST(CliRosbag, DamagedBagsAreOneLineErrors) {
   // With --intrinsics the same bag reads.
   const Result r = RunCli("info " + (dir / "no_info.bag").string() + " --intrinsics " + kIntrinsics);
   EXPECT_EQ(r.code, 0) << r.output;
+}
+
+// ROS 2 bags, SQLite and MCAP (chunks uncompressed, zstd, lz4), written from the formats'
+// specifications (testing/ros2_writer): the folder's poses to the last digit, as a bag folder
+// (metadata.yaml) or as the storage file alone.
+TEST(CliRosbag, Ros2BagsGiveTheirFoldersTrajectory) {
+  const fs::path folder = SyntheticTum("cli_bag2_folder", 6);
+  const fs::path dir = testing::FreshTempDir("cli_bag2");
+  const std::string from_folder = T0(folder.string(), std::string(" --intrinsics ") + kIntrinsics, dir / "folder");
+  ASSERT_FALSE(from_folder.empty());
+  testing::Ros2BagOptions o;
+  o.intrinsics = testing::TestIntrinsics();
+  for (const auto& [storage, compression] :
+       std::vector<std::pair<std::string, std::string>>{{"db3", ""}, {"mcap", ""}, {"mcap", "zstd"}, {"mcap", "lz4"}}) {
+    o.storage = storage;
+    o.compression = compression;
+    const fs::path bag = dir / (storage + compression);
+    const fs::path file = testing::WriteRos2Bag(folder, bag, o);
+    EXPECT_EQ(T0(bag.string(), "", dir / ("out_" + storage + compression)), from_folder) << storage << compression;
+    if (compression == "zstd") {
+      EXPECT_EQ(T0(file.string(), "", dir / "out_file"), from_folder) << "the .mcap file alone";
+    }
+  }
+  const Result info = RunCli("info " + (dir / "mcapzstd").string());
+  ASSERT_EQ(info.code, 0) << info.output;
+  EXPECT_NE(info.output.find("stream       format: ROS 2 bag (MCAP, CDR)"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("stream       depth: /camera/depth/image_rect_raw (32FC1, 6 images)"), std::string::npos)
+      << info.output;
+  const Result db3 = RunCli("info " + (dir / "db3").string());
+  EXPECT_NE(db3.output.find("stream       format: ROS 2 bag (SQLite .db3, CDR)"), std::string::npos) << db3.output;
+
+  // Damaged: cut short, an unknown compression, a database that is not a bag.
+  const std::string mcap = ReadFileToString(dir / "mcapzstd" / "scan.mcap");
+  WriteFileAtomic(dir / "cut.mcap", mcap.substr(0, mcap.size() - 100));
+  std::string brotli = mcap;
+  for (size_t at = brotli.find("zstd"); at != std::string::npos; at = brotli.find("zstd", at)) {
+    brotli.replace(at, 4, "brot");
+  }
+  WriteFileAtomic(dir / "brotli.mcap", brotli);
+  auto error = [&](const fs::path& input) {
+    const Result r = RunCli("register " + input.string() + " -q -o " + (dir / "bad").string());
+    EXPECT_EQ(r.code, 1) << r.output;
+    return r.output;
+  };
+  EXPECT_EQ(error(dir / "cut.mcap"),
+            "error: " + (dir / "cut.mcap").string() + ": MCAP cut short (no footer and closing magic at its end)\n");
+  EXPECT_NE(
+      error(dir / "brotli.mcap").find("is compressed as 'brot', which fine2coarse does not read (none, zstd, lz4)"),
+      std::string::npos);
+  WriteFileAtomic(dir / "empty.db3", std::string("SQLite format 3\0", 16) + std::string(84, '\0'));
+  EXPECT_EQ(error(dir / "empty.db3"),
+            "error: " + (dir / "empty.db3").string() + ": not a ROS 2 bag database (file is not a database)\n");
+  EXPECT_FALSE(fs::exists(dir / "bad" / "trajectory.txt"));
 }
 
 }  // namespace

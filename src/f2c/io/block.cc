@@ -3,6 +3,7 @@
 #include <bzlib.h>
 #include <fmt/format.h>
 #include <lz4frame.h>
+#include <zstd.h>
 
 #include <algorithm>
 #include <limits>
@@ -21,6 +22,8 @@ std::string CompressionName(EmbeddedImage::Compression compression) {
       return "bz2";
     case EmbeddedImage::Compression::kLz4:
       return "lz4";
+    case EmbeddedImage::Compression::kZstd:
+      return "zstd";
   }
   return "?";
 }
@@ -84,6 +87,27 @@ std::string DecompressLz4(const std::string& in, uint64_t size, uint64_t want, c
   return out;
 }
 
+std::string DecompressZstd(const std::string& in, uint64_t size, uint64_t want, const std::string& where) {
+  std::unique_ptr<ZSTD_DStream, decltype(&ZSTD_freeDStream)> stream(ZSTD_createDStream(), ZSTD_freeDStream);
+  if (!stream) ThrowInputError(where, "cannot start zstd decompression");
+  ZSTD_initDStream(stream.get());
+  std::string out(want == size ? want + 1 : want, '\0');
+  ZSTD_inBuffer input{in.data(), in.size(), 0};
+  ZSTD_outBuffer output{out.data(), out.size(), 0};
+  size_t hint = 1;
+  while (hint != 0 && output.pos < output.size) {
+    const size_t before_in = input.pos, before_out = output.pos;
+    hint = ZSTD_decompressStream(stream.get(), &output, &input);
+    if (ZSTD_isError(hint)) ThrowInputError(where, fmt::format("damaged zstd chunk ({})", ZSTD_getErrorName(hint)));
+    if (input.pos == before_in && output.pos == before_out) break;
+  }
+  if (want == size ? hint != 0 || output.pos != size : output.pos < want) {
+    ThrowInputError(where, fmt::format("damaged zstd chunk (not {} bytes)", size));
+  }
+  out.resize(want);
+  return out;
+}
+
 std::string DecompressPrefix(const std::string& compressed, EmbeddedImage::Compression compression,
                              uint64_t uncompressed_size, uint64_t want, const std::string& where) {
   // A bag's chunks are a few megabytes (rosbag's default 768 KiB, larger only to hold one
@@ -103,6 +127,8 @@ std::string DecompressPrefix(const std::string& compressed, EmbeddedImage::Compr
       return DecompressBz2(compressed, uncompressed_size, want, where);
     case EmbeddedImage::Compression::kLz4:
       return DecompressLz4(compressed, uncompressed_size, want, where);
+    case EmbeddedImage::Compression::kZstd:
+      return DecompressZstd(compressed, uncompressed_size, want, where);
   }
   ThrowInputError(where, "unknown compression");
 }

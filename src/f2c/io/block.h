@@ -26,4 +26,8 @@ std::string Decompress(const std::string& compressed, EmbeddedImage::Compression
 
 std::string CompressionName(EmbeddedImage::Compression compression);
 
+// `size` bytes at `offset` of the message blob in row `row` of a ROS 2 .db3 file's messages
+// table (ros2bag.cc); InputError naming the file when the row or the bytes are not there.
+std::string ReadSqliteBlob(const std::filesystem::path& path, int64_t row, uint64_t offset, uint64_t size);
+
 }  // namespace f2c

@@ -116,6 +116,7 @@ std::string ReadFileRange(const std::filesystem::path& path, uint64_t offset, ui
 }
 
 std::string ReadEmbeddedBytes(const std::filesystem::path& path, const EmbeddedImage& e) {
+  if (e.sqlite_row >= 0) return ReadSqliteBlob(path, e.sqlite_row, e.offset, e.size);
   if (!e.block) return ReadFileRange(path, e.offset, e.size);
   const std::shared_ptr<const std::string> block = ReadBlock(path, *e.block);
   if (e.offset > block->size() || e.size > block->size() - e.offset) {

@@ -18,7 +18,7 @@
 
 namespace f2c::internal {
 namespace fs = std::filesystem;
-using rosbag::Bag;
+using Bag = rosbag::Recording;
 using rosbag::MessageReader;
 using rosbag::MessageRef;
 
@@ -60,15 +60,6 @@ std::vector<std::string> TopicsOfType(const Bag& bag, const std::vector<std::str
   return topics;
 }
 
-// A header's stamp in seconds: the double nearest to its decimal value, as a TUM list's
-// "1305031102.175304" is read, so a bag and its folder stamp their frames alike.
-double Stamp(MessageReader& r) {
-  r.Get<uint32_t>();  // seq
-  const uint32_t sec = r.Get<uint32_t>(), nsec = r.Get<uint32_t>();
-  r.String();  // frame_id
-  return std::strtod(fmt::format("{}.{:09d}", sec, nsec).c_str(), nullptr);
-}
-
 // One image message: its stamp and where its pixels (or encoded bytes) lie.
 struct ImageMessage {
   double stamp = 0;
@@ -85,11 +76,12 @@ ImageMessage ReadImageMessage(const Bag& bag, const MessageRef& ref, const std::
                               const std::string& topic) {
   const rosbag::MessageData data = bag.Read(ref, kImagePrefixBytes);
   const std::string where = fmt::format("{} ({} at {:.6f} s)", bag.path().string(), topic, ref.time);
-  MessageReader r(data.bytes, where);
+  MessageReader r(data.bytes, where, bag.cdr());
   ImageMessage m;
-  m.stamp = Stamp(r);
+  m.stamp = r.Stamp();
   EmbeddedImage& e = m.image;
   e.block = data.block;
+  e.sqlite_row = data.sqlite_row;
   if (type == kCompressedImage) {
     m.encoding = r.String();
     const uint32_t n = r.Get<uint32_t>();
@@ -194,11 +186,10 @@ std::string FindImageTopic(const Bag& bag, bool depth) {
     if (refs.empty()) continue;
     const std::string type = TypeOf(bag, topic);
     const rosbag::MessageData data = bag.Read(refs.front(), kImagePrefixBytes);
-    MessageReader r(data.bytes, bag.path().string() + " (" + topic + ")");
-    Stamp(r);
-    std::string encoding;
-    if (type == kImage) r.Skip(8);
-    encoding = r.String();
+    MessageReader r(data.bytes, bag.path().string() + " (" + topic + ")", bag.cdr());
+    r.Stamp();
+    if (type == kImage) r.Get<uint32_t>(), r.Get<uint32_t>();  // height, width
+    const std::string encoding = r.String();
     if (IsDepthEncoding(type, encoding) == depth) found.push_back(topic);
   }
   const char* what = depth ? "depth" : "colour";
@@ -224,8 +215,8 @@ CameraInfo ReadCameraInfo(const Bag& bag, const std::string& topic) {
   if (refs.empty()) ThrowInputError(bag.path(), fmt::format("{}: no message", topic));
   const rosbag::MessageData data = bag.Read(refs.front(), 1 << 16);
   const std::string where = fmt::format("{} ({})", bag.path().string(), topic);
-  MessageReader r(data.bytes, where);
-  Stamp(r);
+  MessageReader r(data.bytes, where, bag.cdr());
+  r.Stamp();
   CameraInfo info;
   const uint32_t height = r.Get<uint32_t>(), width = r.Get<uint32_t>();
   info.model = r.String();
@@ -268,7 +259,7 @@ std::optional<Rigid3d> ReadExtrinsic(const Bag& bag, const std::string& topic) {
   const std::vector<MessageRef> refs = bag.Messages(topic);
   if (refs.empty()) return std::nullopt;
   const rosbag::MessageData data = bag.Read(refs.front());
-  MessageReader r(data.bytes, fmt::format("{} ({})", bag.path().string(), topic));
+  MessageReader r(data.bytes, fmt::format("{} ({})", bag.path().string(), topic), bag.cdr());
   Eigen::Vector3d t;
   for (int i = 0; i < 3; ++i) t[i] = r.Get<double>();
   double q[4];
@@ -287,10 +278,11 @@ std::string Parent(const std::string& topic) { return topic.substr(0, topic.rfin
 
 }  // namespace
 
-bool LooksLikeRosbag(const fs::path& path) { return rosbag::LooksLikeBag(path); }
+bool LooksLikeRosbag(const fs::path& path) { return rosbag::LooksLikeBag(path) || rosbag::LooksLikeRos2Bag(path); }
 
 RgbdSequence ReadRosbag(const fs::path& path, const IoOptions& options) {
-  const Bag bag(path);
+  const std::unique_ptr<rosbag::Recording> recording = rosbag::OpenRecording(path);
+  const Bag& bag = *recording;
   const std::vector<std::string> image_types = {kImage, kCompressedImage};
   std::string depth_topic = options.depth_topic, color_topic = options.color_topic;
   if (!depth_topic.empty()) RequireTopic(bag, depth_topic, image_types, "--depth-topic");
@@ -336,7 +328,7 @@ RgbdSequence ReadRosbag(const fs::path& path, const IoOptions& options) {
       const std::vector<MessageRef> refs = bag.Messages(units);
       if (!refs.empty()) {
         const rosbag::MessageData data = bag.Read(refs.front());
-        MessageReader r(data.bytes, path.string() + " (" + units + ")");
+        MessageReader r(data.bytes, path.string() + " (" + units + ")", bag.cdr());
         const float value = r.Get<float>();
         if (!(std::isfinite(value) && value > 0 && value < 1)) {
           ThrowInputError(path, fmt::format("{}: depth units of {} m", units, value));
@@ -410,7 +402,7 @@ RgbdSequence ReadRosbag(const fs::path& path, const IoOptions& options) {
   for (const auto& [ic, id] : AssociateTimestamps(tc, td, options.max_time_difference)) {
     RgbdFrame frame;
     frame.timestamp = colors[ic].stamp;
-    frame.color_path = frame.depth_path = path;
+    frame.color_path = frame.depth_path = bag.path();  // the storage file of a ROS 2 bag folder
     frame.color_embedded = colors[ic].image;
     frame.depth_embedded = depths[id].image;
     frame.name = fmt::format("depth-{:06d}", id);
@@ -424,7 +416,8 @@ RgbdSequence ReadRosbag(const fs::path& path, const IoOptions& options) {
     spdlog::warn("{}: {} of {} colour images have no depth image within {} s: left out", path.string(),
                  colors.size() - seq.frames.size(), colors.size(), options.max_time_difference);
   }
-  seq.streams = {fmt::format("depth: {} ({}, {} images)", depth_topic, depths.front().encoding, depths.size()),
+  seq.streams = {bag.format(),
+                 fmt::format("depth: {} ({}, {} images)", depth_topic, depths.front().encoding, depths.size()),
                  fmt::format("colour: {} ({}, {} images)", color_topic, colors.front().encoding, colors.size())};
   if (!info_topic.empty()) seq.streams.push_back("camera info: " + info_topic);
   return seq;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -260,16 +261,21 @@ Bag::Bag(const fs::path& path) : path_(path) {
   in_ = std::move(in);
 }
 
-std::vector<MessageRef> Bag::Messages(const std::string& topic) const {
+std::vector<MessageRef> MessagesOn(const std::vector<Connection>& connections, const std::vector<MessageRef>& messages,
+                                   const std::string& topic) {
   std::vector<uint32_t> ids;
-  for (const Connection& c : connections_) {
+  for (const Connection& c : connections) {
     if (c.topic == topic) ids.push_back(c.id);
   }
   std::vector<MessageRef> out;
-  for (const MessageRef& m : messages_) {
+  for (const MessageRef& m : messages) {
     if (std::find(ids.begin(), ids.end(), m.connection) != ids.end()) out.push_back(m);
   }
   return out;
+}
+
+std::vector<MessageRef> Bag::Messages(const std::string& topic) const {
+  return MessagesOn(connections_, messages_, topic);
 }
 
 MessageData Bag::Read(const MessageRef& message, uint64_t max_bytes) const {
@@ -316,14 +322,33 @@ MessageData Bag::Read(const MessageRef& message, uint64_t max_bytes) const {
   ThrowInputError(where, "cannot read the message");
 }
 
+MessageReader::MessageReader(const std::string& bytes, std::string where, bool cdr)
+    : bytes_(bytes), where_(std::move(where)), cdr_(cdr) {
+  if (!cdr_) return;
+  Need(4);
+  // The encapsulation: 0x00 0x01 is little-endian plain CDR, what ROS 2 writes.
+  if (bytes_[0] != 0 || bytes_[1] != 1) {
+    ThrowInputError(where_, fmt::format("CDR encapsulation {:02x}{:02x} (fine2coarse reads little-endian CDR, 0001)",
+                                        static_cast<uint8_t>(bytes_[0]), static_cast<uint8_t>(bytes_[1])));
+  }
+  pos_ = 4;
+}
+
 void MessageReader::Need(uint64_t n) {
   if (n > bytes_.size() - pos_) {
     ThrowInputError(where_, fmt::format("message cut short ({} bytes at byte {} of {})", n, pos_, bytes_.size()));
   }
 }
 
+void MessageReader::Align(uint64_t n) {
+  if (!cdr_) return;
+  const uint64_t from_origin = pos_ - 4;
+  Skip((n - from_origin % n) % n);
+}
+
 template <class T>
 T MessageReader::Get() {
+  Align(sizeof(T));
   Need(sizeof(T));
   T value = As<T>(bytes_, pos_);
   pos_ += sizeof(T);
@@ -340,12 +365,22 @@ std::string MessageReader::String() {
   Need(n);
   std::string s = bytes_.substr(pos_, n);
   pos_ += n;
+  if (cdr_ && !s.empty() && s.back() == '\0') s.pop_back();
   return s;
 }
 
 void MessageReader::Skip(uint64_t n) {
   Need(n);
   pos_ += n;
+}
+
+double MessageReader::Stamp() {
+  if (!cdr_) Get<uint32_t>();  // seq
+  const uint32_t sec = Get<uint32_t>(), nsec = Get<uint32_t>();
+  String();  // frame_id
+  // The double nearest to the stamp's decimal value, as a TUM list's "1305031102.175304" is
+  // read, so a bag and its folder stamp their frames alike.
+  return std::strtod(fmt::format("{}.{:09d}", sec, nsec).c_str(), nullptr);
 }
 
 }  // namespace f2c::rosbag

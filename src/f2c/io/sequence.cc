@@ -114,10 +114,11 @@ DatasetLayout DetectLayout(const fs::path& path) {
     return DatasetLayout::kRedwood;
   }
   if (ConfFilesIn(path).size() == 1) return DatasetLayout::kConf;
+  if (internal::LooksLikeRosbag(path)) return DatasetLayout::kRosbag;  // a ROS 2 bag folder
   ThrowInputError(path,
                   "unknown dataset layout (expected TUM rgb.txt + depth.txt, 7-Scenes/3DMatch "
                   "frame-*.depth.png, SUN3D image/ + depth/ + intrinsics.txt, Redwood color/ + "
-                  "depth/, or one .conf file)");
+                  "depth/, one .conf file, or a ROS 2 bag's metadata.yaml)");
 }
 
 RgbdSequence ReadSequence(const fs::path& path, const IoOptions& options) {

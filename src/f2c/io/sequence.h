@@ -40,7 +40,7 @@ struct EmbeddedImage {
     kZlibU16,  // the same, zlib-compressed
     kFloat32,  // width x height float metres (ROS 32FC1): quantised to float_unit per uint16
   };
-  enum class Compression { kNone, kBz2, kLz4 };
+  enum class Compression { kNone, kBz2, kLz4, kZstd };
   struct Block {
     uint64_t offset = 0, size = 0;  // the compressed bytes in the file
     uint64_t uncompressed_size = 0;
@@ -54,6 +54,7 @@ struct EmbeddedImage {
   bool big_endian = false;    // kRawU16 and kFloat32
   double float_unit = 0;      // kFloat32: metres per unit of the uint16 depth it becomes
   std::optional<Block> block;
+  int64_t sqlite_row = -1;  // ROS 2 .db3: offset and size are in this row's message blob
 };
 
 struct RgbdFrame {

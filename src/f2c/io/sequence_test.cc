@@ -47,7 +47,7 @@ TEST(DetectLayout, MissingEmptyAndUnknown) {
             (root / "other").string() +
                 ": unknown dataset layout (expected TUM rgb.txt + depth.txt, 7-Scenes/3DMatch "
                 "frame-*.depth.png, SUN3D image/ + depth/ + intrinsics.txt, Redwood color/ + depth/, "
-                "or one .conf file)");
+                "one .conf file, or a ROS 2 bag's metadata.yaml)");
 }
 
 TEST(ReadTum, AssociatesAndReadsGroundTruth) {
