@@ -2,7 +2,8 @@
 # Read speed and memory of the recording formats beside the folder they were written from:
 # the folder itself, a ScanNet .sens (bench/sens_bench: zlib depth, the folder's colour) and
 # ROS 1 bags written by python3-rosbag (tests/tools/write_rosbag.py: TUM's bag layout, raw
-# rgb8 colour and 32FC1 depth; uncompressed, lz4, bz2). Each row opens the input as register
+# rgb8 colour and 32FC1 depth; uncompressed, lz4, bz2) and ROS 2 bags (bench/write_ros2:
+# SQLite .db3, MCAP with each chunk compression). Each row opens the input as register
 # does and decodes every frame's depth and colour on one thread (bench/read_bench). The last
 # row is a bag of the frames repeated to at least BIG_GB (default 5) gigabytes: its peak
 # memory against the folder's shows that a recording is streamed, not loaded.
@@ -23,6 +24,11 @@ echo "|---|---|---|---|---|---|"
 for c in none lz4 bz2; do
   "$python" "$here/tests/tools/write_rosbag.py" "$folder" "$out/$c.bag" --intrinsics "$k" --compression "$c"
   "$build/bench/read_bench" "$out/$c.bag" "ROS bag, chunks $c (raw rgb8, 32FC1)" --intrinsics "$k"
+done
+for f in "db3 none" "mcap none" "mcap zstd" "mcap lz4"; do
+  set -- $f
+  "$build/bench/write_ros2" "$folder" "$out/ros2_$1_$2" "$1" "$2" "$k"
+  "$build/bench/read_bench" "$out/ros2_$1_$2" "ROS 2 bag, $1, chunks $2 (raw rgb8, 32FC1)" --intrinsics "$k"
 done
 # Repeats of the frames until the bag is at least big_gb gigabytes.
 per_copy=$(stat -c %s "$out/none.bag")

@@ -42,3 +42,7 @@ set_tests_properties([=[cli/Cli.ADamagedCachedPairIsRecomputed]=] PROPERTIES COS
 set_tests_properties([=[odometry/AlignConsecutive.SameInputSamePoses]=] PROPERTIES COST 4)
 set_tests_properties([=[features/RealData.RedkitchenProxiesReappearWhereTheTrueMotionPutsThem]=] PROPERTIES COST 4)
 set_tests_properties([=[odometry/AlignConsecutive.CacheIsReusedAndGivesTheSameAnswer]=] PROPERTIES COST 4)
+set_tests_properties([=[cli/CliRosbag.ATumLayoutBagGivesItsFoldersTrajectoryWhateverItsCompression]=] PROPERTIES COST 16)
+set_tests_properties([=[cli/CliRosbag.Ros2BagsGiveTheirFoldersTrajectory]=] PROPERTIES COST 14)
+set_tests_properties([=[cli/CliRosbag.ARealSenseRecordingIsFoundByItsTopics]=] PROPERTIES COST 6)
+set_tests_properties([=[cli/CliRosbag.DamagedBagsAreOneLineErrors]=] PROPERTIES COST 5)
