@@ -309,7 +309,70 @@ void RequireSomeValidDepth(const RgbdSequence& sequence) {
                                              n, sequence.frames.front().depth_path.string()));
 }
 
+namespace {
+
+// Depth of the depth camera forward-warped into the colour camera: each depth pixel's
+// footprint (its corners' points at its depth, projected) filled with its point's depth in
+// the colour camera, the nearest kept where footprints overlap (a z-buffer); colour pixels no
+// depth pixel lands on stay 0 (no depth), never interpolated across an edge.
+cv::Mat WarpDepthIntoColor(const cv::Mat& depth, const DepthCamera& camera, const CameraIntrinsics& kc) {
+  const CameraIntrinsics& kd = camera.intrinsics;
+  const Eigen::Matrix3d r = camera.color_from_depth.linear();
+  const Eigen::Vector3d t = camera.color_from_depth.translation();
+  cv::Mat out(kc.height, kc.width, CV_32F, cv::Scalar(0));
+  auto project = [&](double u, double v, double z, double* x, double* y) {
+    const Eigen::Vector3d p = r * Eigen::Vector3d((u - kd.cx) * z / kd.fx, (v - kd.cy) * z / kd.fy, z) + t;
+    if (p.z() <= 1e-6) return false;
+    *x = kc.fx * p.x() / p.z() + kc.cx;
+    *y = kc.fy * p.y() / p.z() + kc.cy;
+    return true;
+  };
+  for (int v = 0; v < depth.rows; ++v) {
+    const float* row = depth.ptr<float>(v);
+    for (int u = 0; u < depth.cols; ++u) {
+      const double z = row[u];
+      if (!(z > 0)) continue;
+      double xa, ya, xb, yb, xc, yc;
+      if (!project(u - 0.5, v - 0.5, z, &xa, &ya) || !project(u + 0.5, v + 0.5, z, &xb, &yb) ||
+          !project(u, v, z, &xc, &yc)) {
+        continue;
+      }
+      const Eigen::Vector3d p = r * kd.Unproject(u, v, z) + t;
+      // Colour pixels whose centres the footprint covers; the centre's pixel where it covers none.
+      int x0 = static_cast<int>(std::ceil(std::min(xa, xb))), x1 = static_cast<int>(std::ceil(std::max(xa, xb))) - 1;
+      int y0 = static_cast<int>(std::ceil(std::min(ya, yb))), y1 = static_cast<int>(std::ceil(std::max(ya, yb))) - 1;
+      if (x0 > x1) x0 = x1 = static_cast<int>(std::lround(xc));
+      if (y0 > y1) y0 = y1 = static_cast<int>(std::lround(yc));
+      x0 = std::max(x0, 0), y0 = std::max(y0, 0);
+      x1 = std::min(x1, kc.width - 1), y1 = std::min(y1, kc.height - 1);
+      const auto zc = static_cast<float>(p.z());
+      for (int y = y0; y <= y1; ++y) {
+        float* o = out.ptr<float>(y);
+        for (int x = x0; x <= x1; ++x) {
+          if (o[x] == 0 || zc < o[x]) o[x] = zc;
+        }
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 cv::Mat LoadDepthMeters(const RgbdSequence& sequence, const RgbdFrame& frame) {
+  if (sequence.depth_camera) {
+    // The depth camera's own depth, then warped into the colour camera (--align-to color).
+    RgbdSequence depth_view;
+    depth_view.intrinsics = sequence.depth_camera->intrinsics;
+    depth_view.intrinsics_source = sequence.intrinsics_source;
+    depth_view.depth_scale = sequence.depth_scale;
+    depth_view.invalid_depth_values = sequence.invalid_depth_values;
+    depth_view.depth_encoding = sequence.depth_encoding;
+    CameraIntrinsics pinhole = *depth_view.intrinsics;
+    pinhole.distortion = {};
+    return WarpDepthIntoColor(LoadDepthMeters(depth_view, frame),
+                              DepthCamera{pinhole, sequence.depth_camera->color_from_depth}, *sequence.intrinsics);
+  }
   const cv::Mat raw = ReadFrameImage(frame.depth_path, frame.depth_embedded, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
   if (raw.depth() == CV_8U) {
     ThrowInputError(frame.depth_path, "depth image is 8-bit; expected 16-bit");

@@ -92,6 +92,56 @@ TEST(ReadSens, ColourFromAnotherCameraLandsWithinAPixel) {
   EXPECT_EQ(grey.size(), cv::Size(640, 480));
 }
 
+// --align-to color: depth warped into the colour camera (800x600, 2.5 cm and 1 degree away)
+// lands where that camera sees the surfaces: the depth edges (a step of 5 cm or more between
+// neighbours) within a pixel of the true ones, and the depth within a centimetre where both
+// have depth (a footprint carries its pixel's depth: on a slanted surface the colour pixels
+// it covers see a few millimetres nearer or farther).
+TEST(ReadSens, AlignToColourPutsDepthEdgesOnTheColourCamerasEdges) {
+  const fs::path path = testing::FreshTempDir("sens_align_color") / "scan.sens";
+  const testing::SensOptions o = TwoCameras();
+  const PoseList poses = Walk(1);
+  testing::WriteSyntheticSens(path, testing::SyntheticScene(), poses, o);
+  IoOptions io;
+  io.align_to = AlignTo::kColor;
+  const RgbdSequence seq = ReadSequence(path, io);
+  ASSERT_TRUE(seq.depth_camera);
+  EXPECT_FALSE(seq.color_camera);
+  EXPECT_EQ(seq.intrinsics->width, 800);
+  const cv::Mat depth = LoadDepthMeters(seq, seq.frames[0]);
+  ASSERT_EQ(depth.size(), cv::Size(800, 600));
+  EXPECT_EQ(LoadColor(seq, seq.frames[0], depth.size()).size(), cv::Size(800, 600));
+  const cv::Mat truth =
+      testing::Render(testing::SyntheticScene(), o.color, poses[0] * o.color_from_depth.inverse()).depth;
+  auto edges = [](const cv::Mat& z) {
+    cv::Mat e(z.size(), CV_8U, cv::Scalar(0));
+    for (int y = 1; y < z.rows; ++y) {
+      for (int x = 1; x < z.cols; ++x) {
+        const float a = z.at<float>(y, x), l = z.at<float>(y, x - 1), u = z.at<float>(y - 1, x);
+        if (a > 0 && ((l > 0 && std::abs(a - l) > 0.05f) || (u > 0 && std::abs(a - u) > 0.05f)))
+          e.at<uint8_t>(y, x) = 255;
+      }
+    }
+    return e;
+  };
+  const cv::Mat true_edges = edges(truth), warped_edges = edges(depth);
+  ASSERT_GT(cv::countNonZero(true_edges), 100);
+  cv::Mat distance;  // to the nearest true edge
+  cv::distanceTransform(255 - true_edges, distance, cv::DIST_L2, 3);
+  int near = 0, all = 0, agree = 0, both = 0;
+  for (int y = 20; y < 580; ++y) {
+    for (int x = 20; x < 780; ++x) {
+      if (warped_edges.at<uint8_t>(y, x)) ++all, near += distance.at<float>(y, x) <= 1.5f;
+      const float a = depth.at<float>(y, x), b = truth.at<float>(y, x);
+      if (a > 0 && b > 0) ++both, agree += std::abs(a - b) <= 0.01f;
+    }
+  }
+  ASSERT_GT(all, 100);
+  EXPECT_GT(near, 0.95 * all) << near << " of " << all << " depth edges within a pixel of the colour camera's";
+  EXPECT_GT(agree, 0.99 * both) << agree << " of " << both;
+  EXPECT_GT(both, 0.9 * 760 * 560);  // holes only where the depth camera does not see
+}
+
 TEST(ReadSens, RawColourAndRawDepth) {
   const fs::path path = testing::FreshTempDir("sens_raw") / "scan.sens";
   testing::SensOptions o;

@@ -167,6 +167,20 @@ RgbdSequence ReadSequence(const fs::path& path, const IoOptions& options) {
     sequence.intrinsics_source = "--intrinsics " + options.intrinsics;
   }
   if (sequence.frames.empty()) ThrowInputError(path, "dataset holds no frame");
+  // Depth into the colour camera: the colour camera becomes the sequence's.
+  if (options.align_to == AlignTo::kColor && sequence.color_camera && sequence.intrinsics) {
+    sequence.depth_camera = DepthCamera{*sequence.intrinsics, sequence.color_camera->color_from_depth};
+    sequence.intrinsics = sequence.color_camera->intrinsics;
+    sequence.intrinsics_source += " (the colour camera: --align-to color)";
+    // Poses, the recording's of its depth camera, become the colour camera's.
+    if (sequence.ground_truth) {
+      const Rigid3d depth_from_color = sequence.color_camera->color_from_depth.inverse();
+      for (Rigid3d& world_from_depth : sequence.ground_truth->world_from_camera) {
+        world_from_depth = world_from_depth * depth_from_color;
+      }
+    }
+    sequence.color_camera.reset();
+  }
   SelectFrames(path, options, &sequence);
   if (options.check_files) {
     CheckFilesExist(sequence);
@@ -222,6 +236,12 @@ std::string CacheContext(const RgbdSequence& seq, const std::string& options_jso
     const Eigen::Matrix4d m = seq.color_camera->color_from_depth.matrix();
     context += fmt::format("|C {:.17g} {:.17g} {:.17g} {:.17g} {} {} {:.17g}", c.fx, c.fy, c.cx, c.cy, c.width,
                            c.height, fmt::join(m.data(), m.data() + 16, " "));
+  }
+  if (seq.depth_camera) {  // depth warped from another camera: what every stage sees depends on it
+    const CameraIntrinsics& d = seq.depth_camera->intrinsics;
+    const Eigen::Matrix4d m = seq.depth_camera->color_from_depth.matrix();
+    context += fmt::format("|W {:.17g} {:.17g} {:.17g} {:.17g} {} {} {:.17g} {:.17g}", d.fx, d.fy, d.cx, d.cy, d.width,
+                           d.height, fmt::join(d.distortion, " "), fmt::join(m.data(), m.data() + 16, " "));
   }
   return context;
 }

@@ -74,12 +74,24 @@ struct ColorCamera {
   Rigid3d color_from_depth = Rigid3d::Identity();
 };
 
+// Depth from another camera warped into the colour camera (--align-to color): the sequence's
+// camera (RgbdSequence::intrinsics) is then the colour camera, and this is the depth's.
+struct DepthCamera {
+  CameraIntrinsics intrinsics;  // as stored (with its distortion, if any)
+  Rigid3d color_from_depth = Rigid3d::Identity();
+};
+
+// Which camera the frames are seen from where depth and colour come from two (recordings).
+enum class AlignTo { kDepth, kColor };
+F2C_ENUM_NAMES(AlignTo, {{AlignTo::kDepth, "depth"}, {AlignTo::kColor, "color"}})
+
 struct RgbdSequence {
   std::filesystem::path root;
   DatasetLayout layout = DatasetLayout::kTum;
   std::vector<RgbdFrame> frames;
   std::optional<CameraIntrinsics> intrinsics;  // the depth camera's; TUM folders carry none
   std::optional<ColorCamera> color_camera;     // only where colour is another camera
+  std::optional<DepthCamera> depth_camera;     // only where depth is warped into the colour camera
   std::string intrinsics_source;               // file or option it came from
   double depth_scale = 0.001;                  // metres per unit (after decoding)
   std::vector<uint16_t> invalid_depth_values{0};
@@ -116,6 +128,10 @@ struct IoOptions {
   std::string depth_topic, color_topic, camera_info_topic;
   // ROS bags: metres per unit of 16-bit depth (0: the recording's own, else 0.001).
   double depth_scale = 0;
+  // Recordings whose colour is another camera: colour resampled into the depth camera
+  // (depth), or depth forward-warped into the colour camera (color). BENCHMARKS.md measures
+  // both.
+  AlignTo align_to = AlignTo::kDepth;
 
   template <class V>
   void Fields(V& v) {
@@ -139,6 +155,9 @@ struct IoOptions {
               "ROS bags: the colour image topic (default: RealSense's, else the one colour image topic)");
     F2C_FIELD(v, camera_info_topic, "--camera-info-topic", {},
               "ROS bags: the depth camera's CameraInfo topic (default: the depth topic's camera_info)");
+    F2C_FIELD(v, align_to, "--align-to", {},
+              "recordings with two cameras: depth (colour resampled into the depth camera) or color (depth warped "
+              "into the colour camera, holes left empty)");
     F2C_FIELD(v, depth_scale, "--depth-scale", AtLeast(0.0),
               "ROS bags: metres per unit of 16-bit depth (0: the recording's own, else 0.001)");
   }
