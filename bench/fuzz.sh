@@ -13,7 +13,7 @@ seconds="${1:-60}"
 work="${2:-/tmp/f2c-fuzz}"
 jobs="${3:-2}"
 # F2C_FUZZ_TARGETS="fuzz_caches fuzz_ply": only these.
-read -r -a targets <<< "${F2C_FUZZ_TARGETS:-fuzz_trajectory fuzz_correspondences fuzz_intrinsics fuzz_tum_lists fuzz_caches fuzz_images fuzz_ply fuzz_sens}"
+read -r -a targets <<< "${F2C_FUZZ_TARGETS:-fuzz_trajectory fuzz_correspondences fuzz_intrinsics fuzz_tum_lists fuzz_caches fuzz_images fuzz_ply fuzz_recordings}"
 command -v clang++ > /dev/null || { echo "error: clang++ not found (Debian: clang, libclang-rt-14-dev)" >&2; exit 1; }
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ -DF2C_FUZZ=ON \
   -DF2C_BUILD_TESTS=OFF -DF2C_BUILD_BENCH=OFF > /dev/null

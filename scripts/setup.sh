@@ -22,7 +22,7 @@ packages=(
   libjs-three chromium
   clang libclang-rt-14-dev clang-format
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
-  python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-pil
+  python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-tf2-msgs python3-pil
 )
 [ "${1:-}" = "--peers" ] && packages+=(python3-open3d python3-joblib)
 

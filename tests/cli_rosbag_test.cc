@@ -114,6 +114,15 @@ TEST(CliRosbag, ARealSenseRecordingIsFoundByItsTopics) {
   const std::vector<double> color_from_depth = color["color_from_depth"].get<std::vector<double>>();
   EXPECT_NEAR(color_from_depth[3], -0.025, 1e-12);  // row-major: the depth camera 25 mm to the colour's left
   EXPECT_NEAR(color_from_depth[0], 1, 1e-12);
+  // Another bag's colour camera, placed by /tf_static (both cameras' frames under camera_link).
+  ASSERT_TRUE(WriteBag(folder, dir / "tf_static.bag", "--color-camera 600,605,330,250,0.025,0,0"));
+  const Result tf = RunCli("info --json " + (dir / "tf_static.bag").string());
+  ASSERT_EQ(tf.code, 0) << tf.output;
+  const std::vector<double> tf_color_from_depth =
+      nlohmann::json::parse(tf.output.substr(tf.output.find('{')))["color_camera"]["color_from_depth"]
+          .get<std::vector<double>>();
+  EXPECT_NEAR(tf_color_from_depth[3], -0.025, 1e-12);
+  EXPECT_EQ(tf.output.find("warning"), std::string::npos) << tf.output;
   // Depth in 1/5000 m as the folder's, with float32's rounding of the unit: the folder's
   // poses within a tenth of a millimetre.
   T0(folder.string(), std::string(" --intrinsics ") + kIntrinsics, dir / "folder");
@@ -215,6 +224,17 @@ TEST(CliRosbag, Ros2BagsGiveTheirFoldersTrajectory) {
       << info.output;
   const Result db3 = RunCli("info " + (dir / "db3").string());
   EXPECT_NE(db3.output.find("stream       format: ROS 2 bag (SQLite .db3, CDR)"), std::string::npos) << db3.output;
+
+  // The colour camera placed by /tf_static (CDR tf2_msgs/msg/TFMessage).
+  o.storage = "db3";
+  o.color_intrinsics = CameraIntrinsics{600, 605, 330, 250, 640, 480};
+  o.color_in_depth = Eigen::Vector3d(0.025, 0, 0);
+  testing::WriteRos2Bag(folder, dir / "tf_static", o);
+  const Result tf = RunCli("info --json " + (dir / "tf_static").string());
+  ASSERT_EQ(tf.code, 0) << tf.output;
+  const nlohmann::json tf_json = nlohmann::json::parse(tf.output.substr(tf.output.find('{')));
+  EXPECT_EQ(tf_json["color_camera"]["fx"].get<double>(), 600);
+  EXPECT_NEAR(tf_json["color_camera"]["color_from_depth"][3].get<double>(), -0.025, 1e-12);
 
   // Damaged: cut short, an unknown compression, a database that is not a bag.
   const std::string mcap = ReadFileToString(dir / "mcapzstd" / "scan.mcap");

@@ -24,9 +24,10 @@ try:
     from PIL import Image as PILImage
     import rosbag
     import rospy
-    from geometry_msgs.msg import Transform
+    from geometry_msgs.msg import Transform, TransformStamped
     from sensor_msgs.msg import CameraInfo, CompressedImage, Image
     from std_msgs.msg import Float32
+    from tf2_msgs.msg import TFMessage
 except ImportError as e:  # pragma: no cover
     print(f"write_rosbag.py: {e} (apt-get install python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-pil)",
           file=sys.stderr)
@@ -85,8 +86,8 @@ def main():
     p.add_argument("--compression", default="none", choices=["none", "bz2", "lz4"])
     p.add_argument("--no-camera-info", action="store_true")
     p.add_argument("--color-encoding", default="rgb8")
-    p.add_argument("--color-camera", help="realsense: fx,fy,cx,cy,tx,ty,tz: the colour stream's camera info and its "
-                   "tf/0 translation (its place in the depth stream's frame)")
+    p.add_argument("--color-camera", help="fx,fy,cx,cy,tx,ty,tz: the colour camera's info and its place in the "
+                   "depth camera's frame (realsense: the colour stream's tf/0; tum: /tf_static)")
     p.add_argument("--compressed-color", action="store_true", help="colour as sensor_msgs/CompressedImage holding "
                    "the folder's own image files' bytes (JPEG or PNG), on <colour topic>/compressed")
     p.add_argument("--repeat", type=int, default=1, help="the frames this many times, one after another "
@@ -108,9 +109,9 @@ def main():
     color_info = "/camera/rgb/camera_info" if tum else "/device_0/sensor_1/Color_0/info/camera_info"
     with rosbag.Bag(a.out, "w", compression=a.compression) as bag:
         t0 = rospy.Time.from_sec(float(colors[0][0]) - 0.01)
+        color_camera = [float(v) for v in a.color_camera.split(",")] if a.color_camera else None
         if not tum:
             bag.write("/device_0/sensor_0/option/Depth Units/value", Float32(1.0 / 5000.0), t0)
-            color_camera = [float(v) for v in a.color_camera.split(",")] if a.color_camera else None
             for topic in ("/device_0/sensor_0/Depth_0/tf/0", "/device_0/sensor_1/Color_0/tf/0"):
                 t = Transform()
                 t.rotation.w = 1.0
@@ -127,27 +128,39 @@ def main():
                 sec, frac = e[2].split(".")
                 repeated.append((e[0] + r * span, e[1], f"{int(sec) + r * span}.{frac}", e[3], e[4]))
         events = repeated
+        depth_frame, color_frame = ("camera_depth_optical_frame", "camera_rgb_optical_frame") if tum else ("depth", "color")
+        if tum and color_camera:
+            tfs = TFMessage()
+            for child, t in ((depth_frame, (0.0, 0.0, 0.0)), (color_frame, tuple(color_camera[4:7]))):
+                ts = TransformStamped()
+                ts.header.stamp = t0
+                ts.header.frame_id = "camera_link"
+                ts.child_frame_id = child
+                ts.transform.translation.x, ts.transform.translation.y, ts.transform.translation.z = t
+                ts.transform.rotation.w = 1.0
+                tfs.transforms.append(ts)
+            bag.write("/tf_static", tfs, t0)
         infos_written = False
         for _, kind, s, name, i in events:
             stamp = rospy.Time(int(s.split(".")[0]), int(round(float("0." + s.split(".")[1]) * 1e9)))
             pixels, w, h = read_png(os.path.join(a.folder, name))
             if not infos_written and not a.no_camera_info:
-                bag.write(depth_info, camera_info(k, w, h, stamp, "depth"), stamp)
+                bag.write(depth_info, camera_info(k, w, h, stamp, depth_frame), stamp)
                 kc = tuple(float(v) for v in a.color_camera.split(",")[:4]) if a.color_camera else k
-                bag.write(color_info, camera_info(kc, w, h, stamp, "color"), stamp)
+                bag.write(color_info, camera_info(kc, w, h, stamp, color_frame), stamp)
                 infos_written = True
             if kind == "d":
                 if tum:
                     metres = (pixels.astype(np.float64) / 5000.0).astype(np.float32)
-                    msg = image(metres, "32FC1", stamp, "depth", i)
+                    msg = image(metres, "32FC1", stamp, depth_frame, i)
                 else:
-                    msg = image(pixels, "mono16", stamp, "depth", i)
+                    msg = image(pixels, "mono16", stamp, depth_frame, i)
                 bag.write(depth_topic, msg, stamp)
             elif a.compressed_color:
                 msg = CompressedImage()
                 msg.header.seq = i
                 msg.header.stamp = stamp
-                msg.header.frame_id = "color"
+                msg.header.frame_id = color_frame
                 data = open(os.path.join(a.folder, name), "rb").read()
                 msg.format = "png" if data[:4] == b"\x89PNG" else "jpeg"
                 msg.data = data
@@ -161,7 +174,7 @@ def main():
                     rgb = np.dstack([rgb, np.full(rgb.shape[:2], 255, np.uint8)])
                 elif enc != "rgb8":  # mono8, and encodings the reader refuses (bayer_rggb8, ...)
                     rgb = rgb[:, :, 1]
-                msg = image(np.ascontiguousarray(rgb), enc, stamp, "color", i)
+                msg = image(np.ascontiguousarray(rgb), enc, stamp, color_frame, i)
                 bag.write(color_topic, msg, stamp)
                 if a.extra_color_topic:
                     bag.write(a.extra_color_topic, msg, stamp)

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <map>
 #include <regex>
 
 #include "f2c/io/readers.h"
@@ -63,6 +64,7 @@ std::vector<std::string> TopicsOfType(const Bag& bag, const std::vector<std::str
 // One image message: its stamp and where its pixels (or encoded bytes) lie.
 struct ImageMessage {
   double stamp = 0;
+  std::string frame_id;  // its camera's tf frame
   std::string encoding;  // Image: its encoding; CompressedImage: its format
   EmbeddedImage image;
 };
@@ -78,7 +80,7 @@ ImageMessage ReadImageMessage(const Bag& bag, const MessageRef& ref, const std::
   const std::string where = fmt::format("{} ({} at {:.6f} s)", bag.path().string(), topic, ref.time);
   MessageReader r(data.bytes, where, bag.cdr());
   ImageMessage m;
-  m.stamp = r.Stamp();
+  m.stamp = r.Stamp(&m.frame_id);
   EmbeddedImage& e = m.image;
   e.block = data.block;
   e.sqlite_row = data.sqlite_row;
@@ -276,6 +278,58 @@ std::optional<Rigid3d> ReadExtrinsic(const Bag& bag, const std::string& topic) {
 
 std::string Parent(const std::string& topic) { return topic.substr(0, topic.rfind('/')); }
 
+// ROS 1 frame ids may carry a leading '/' (tf's old convention); tf2 drops it.
+std::string FrameName(std::string frame) {
+  while (!frame.empty() && frame.front() == '/') frame.erase(0, 1);
+  return frame;
+}
+
+// color_from_depth from the static transforms (/tf_static, tf2_msgs/TFMessage: each a
+// parent_from_child pose), through the tree both cameras' frames hang from; empty where
+// the bag has none or the two frames are not joined.
+std::optional<Rigid3d> TfColorFromDepth(const Bag& bag, const std::string& depth_frame,
+                                        const std::string& color_frame) {
+  std::map<std::string, std::pair<std::string, Rigid3d>> parent_of;  // child -> (parent, parent_from_child)
+  for (const rosbag::Connection& c : bag.connections()) {
+    if (c.type != "tf2_msgs/TFMessage" || (c.topic != "/tf_static" && c.topic != "tf_static")) continue;
+    for (const MessageRef& ref : bag.Messages(c.topic)) {
+      const rosbag::MessageData data = bag.Read(ref);
+      MessageReader r(data.bytes, fmt::format("{} ({})", bag.path().string(), c.topic), bag.cdr());
+      const uint32_t n = r.Get<uint32_t>();
+      for (uint32_t k = 0; k < n && k < 100000; ++k) {
+        std::string parent;
+        r.Stamp(&parent);
+        const std::string child = r.String();
+        Eigen::Vector3d t;
+        for (int i = 0; i < 3; ++i) t[i] = r.Get<double>();
+        double q[4];
+        for (double& v : q) v = r.Get<double>();
+        const Eigen::Quaterniond rotation(q[3], q[0], q[1], q[2]);
+        if (!t.allFinite() || !(std::abs(rotation.norm() - 1) < 1e-3)) continue;
+        Rigid3d parent_from_child = Rigid3d::Identity();
+        parent_from_child.linear() = rotation.normalized().toRotationMatrix();
+        parent_from_child.translation() = t;
+        parent_of[FrameName(child)] = {FrameName(parent), parent_from_child};
+      }
+    }
+  }
+  // A frame's pose in its tree's root, and the root's name.
+  auto rooted = [&](std::string frame) {
+    Rigid3d root_from_frame = Rigid3d::Identity();
+    for (int depth = 0; depth < 64; ++depth) {
+      const auto it = parent_of.find(frame);
+      if (it == parent_of.end()) break;
+      root_from_frame = it->second.second * root_from_frame;
+      frame = it->second.first;
+    }
+    return std::pair(frame, root_from_frame);
+  };
+  const auto [depth_root, root_from_depth] = rooted(FrameName(depth_frame));
+  const auto [color_root, root_from_color] = rooted(FrameName(color_frame));
+  if (depth_root != color_root || FrameName(depth_frame).empty()) return std::nullopt;
+  return root_from_color.inverse() * root_from_depth;
+}
+
 }  // namespace
 
 bool LooksLikeRosbag(const fs::path& path) { return rosbag::LooksLikeBag(path) || rosbag::LooksLikeRos2Bag(path); }
@@ -368,10 +422,15 @@ RgbdSequence ReadRosbag(const fs::path& path, const IoOptions& options) {
     const CameraIntrinsics kc = ReadCameraInfo(bag, color_info).intrinsics;
     const CameraIntrinsics& kd = *seq.intrinsics;
     Rigid3d color_from_depth = Rigid3d::Identity();
+    bool placed = true;
     if (is_realsense) {
       const auto ref_from_depth = ReadExtrinsic(bag, depth_stream + "/tf/0");
       const auto ref_from_color = ReadExtrinsic(bag, color_stream + "/tf/0");
       if (ref_from_depth && ref_from_color) color_from_depth = ref_from_color->inverse() * *ref_from_depth;
+    } else if (const auto tf = TfColorFromDepth(bag, depths.front().frame_id, colors.front().frame_id)) {
+      color_from_depth = *tf;
+    } else {
+      placed = depths.front().frame_id == colors.front().frame_id;
     }
     const bool same = kc.fx == kd.fx && kc.fy == kd.fy && kc.cx == kd.cx && kc.cy == kd.cy && kc.width == kd.width &&
                       kc.height == kd.height && color_from_depth.matrix().isIdentity(1e-12);
@@ -382,11 +441,11 @@ RgbdSequence ReadRosbag(const fs::path& path, const IoOptions& options) {
       CameraIntrinsics pinhole = kc;
       pinhole.distortion = {};
       seq.color_camera = ColorCamera{pinhole, color_from_depth};
-      if (!is_realsense) {
+      if (!placed) {
         spdlog::warn(
-            "{}: colour ({}) is another camera than depth; read as if at the depth camera's place (no "
-            "extrinsic is read from /tf)",
-            path.string(), color_info);
+            "{}: colour (frame '{}') is another camera than depth (frame '{}'), and /tf_static does not join "
+            "them: read as if at the depth camera's place",
+            path.string(), colors.front().frame_id, depths.front().frame_id);
       }
     }
   }

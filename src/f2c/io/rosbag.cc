@@ -374,10 +374,11 @@ void MessageReader::Skip(uint64_t n) {
   pos_ += n;
 }
 
-double MessageReader::Stamp() {
+double MessageReader::Stamp(std::string* frame_id) {
   if (!cdr_) Get<uint32_t>();  // seq
   const uint32_t sec = Get<uint32_t>(), nsec = Get<uint32_t>();
-  String();  // frame_id
+  const std::string frame = String();
+  if (frame_id != nullptr) *frame_id = frame;
   // The double nearest to the stamp's decimal value, as a TUM list's "1305031102.175304" is
   // read, so a bag and its folder stamp their frames alike.
   return std::strtod(fmt::format("{}.{:09d}", sec, nsec).c_str(), nullptr);

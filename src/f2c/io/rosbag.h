@@ -120,8 +120,9 @@ class MessageReader {
   std::string String();
   // Skips `n` bytes.
   void Skip(uint64_t n);
-  // A std_msgs/Header's stamp (seconds; ROS 1's seq before it), and its frame_id skipped.
-  double Stamp();
+  // A std_msgs/Header's stamp (seconds; ROS 1's seq before it); its frame_id into `frame_id`
+  // where one is given.
+  double Stamp(std::string* frame_id = nullptr);
   uint64_t position() const { return pos_; }
 
  private:

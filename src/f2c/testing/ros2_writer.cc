@@ -50,9 +50,9 @@ class Cdr {
   std::string b_ = std::string("\0\1\0\0", 4);
 };
 
-std::string ImageMessage(const cv::Mat& pixels, const std::string& encoding, int64_t ns) {
+std::string ImageMessage(const cv::Mat& pixels, const std::string& encoding, int64_t ns, const std::string& frame) {
   Cdr c;
-  c.Header(ns, "camera");
+  c.Header(ns, frame);
   c.Put<uint32_t>(pixels.rows), c.Put<uint32_t>(pixels.cols);
   c.String(encoding);
   c.Put<uint8_t>(0);
@@ -61,9 +61,9 @@ std::string ImageMessage(const cv::Mat& pixels, const std::string& encoding, int
   return c.bytes();
 }
 
-std::string CameraInfoMessage(const CameraIntrinsics& k, int64_t ns) {
+std::string CameraInfoMessage(const CameraIntrinsics& k, int64_t ns, const std::string& frame) {
   Cdr c;
-  c.Header(ns, "camera");
+  c.Header(ns, frame);
   c.Put<uint32_t>(k.height), c.Put<uint32_t>(k.width);
   c.String("plumb_bob");
   c.Put<uint32_t>(5);
@@ -86,10 +86,27 @@ const std::vector<std::pair<std::string, std::string>> kTopics = {
     {"/camera/color/image_raw", "sensor_msgs/msg/Image"},
     {"/camera/color/camera_info", "sensor_msgs/msg/CameraInfo"},
     {"/camera/depth/image_rect_raw", "sensor_msgs/msg/Image"},
-    {"/camera/depth/camera_info", "sensor_msgs/msg/CameraInfo"}};
+    {"/camera/depth/camera_info", "sensor_msgs/msg/CameraInfo"},
+    {"/tf_static", "tf2_msgs/msg/TFMessage"}};
+
+// camera_link -> each camera's optical frame: the depth camera at camera_link, the colour
+// camera at `color_in_depth`.
+std::string TfStaticMessage(const Eigen::Vector3d& color_in_depth, int64_t ns) {
+  Cdr c;
+  c.Put<uint32_t>(2);
+  for (const auto& [child, t] : {std::pair(std::string("camera_depth_optical_frame"), Eigen::Vector3d::Zero().eval()),
+                                 std::pair(std::string("camera_color_optical_frame"), color_in_depth)}) {
+    c.Header(ns, "camera_link");
+    c.String(child);
+    for (int i = 0; i < 3; ++i) c.Put<double>(t[i]);
+    for (double q : {0.0, 0.0, 0.0, 1.0}) c.Put<double>(q);
+  }
+  return c.bytes();
+}
 
 // One frame's messages (colour, depth; the camera infos with the first).
-std::vector<std::vector<Message>> FrameMessages(const fs::path& tum_dir, const CameraIntrinsics& k) {
+std::vector<std::vector<Message>> FrameMessages(const fs::path& tum_dir, const Ros2BagOptions& o) {
+  const CameraIntrinsics& k = o.intrinsics;
   IoOptions io;
   io.intrinsics = fmt::format("{},{},{},{}", k.fx, k.fy, k.cx, k.cy);
   const RgbdSequence seq = ReadSequence(tum_dir, io);
@@ -110,11 +127,14 @@ std::vector<std::vector<Message>> FrameMessages(const fs::path& tum_dir, const C
     }
     std::vector<Message> m;
     if (i == 0) {
-      m.push_back({kTopics[1].first, ns, CameraInfoMessage(k, ns)});
-      m.push_back({kTopics[3].first, ns, CameraInfoMessage(k, ns)});
+      m.push_back(
+          {kTopics[1].first, ns, CameraInfoMessage(o.color_intrinsics.value_or(k), ns, "camera_color_optical_frame")});
+      m.push_back({kTopics[3].first, ns, CameraInfoMessage(k, ns, "camera_depth_optical_frame")});
+      if (o.color_intrinsics) m.push_back({kTopics[4].first, ns, TfStaticMessage(o.color_in_depth, ns)});
     }
-    m.push_back({kTopics[0].first, ns, ImageMessage(rgb, "rgb8", ns)});
-    m.push_back({kTopics[2].first, ns + 1000000, ImageMessage(metres, "32FC1", ns + 1000000)});
+    m.push_back({kTopics[0].first, ns, ImageMessage(rgb, "rgb8", ns, "camera_color_optical_frame")});
+    m.push_back(
+        {kTopics[2].first, ns + 1000000, ImageMessage(metres, "32FC1", ns + 1000000, "camera_depth_optical_frame")});
     frames.push_back(m);
   }
   return frames;
@@ -281,7 +301,7 @@ void WriteMcap(const fs::path& path, const std::vector<std::vector<Message>>& fr
 
 fs::path WriteRos2Bag(const fs::path& tum_dir, const fs::path& out_dir, const Ros2BagOptions& o) {
   fs::create_directories(out_dir);
-  const auto frames = FrameMessages(tum_dir, o.intrinsics);
+  const auto frames = FrameMessages(tum_dir, o);
   const fs::path file = out_dir / ("scan." + o.storage);
   if (o.storage == "db3") {
     WriteDb3(file, frames);

@@ -5,6 +5,7 @@
 // image topic, on /camera/color/image_raw and /camera/depth/image_rect_raw.
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "f2c/geometry/intrinsics.h"
@@ -15,6 +16,10 @@ struct Ros2BagOptions {
   std::string storage = "mcap";  // or "db3"
   std::string compression;       // MCAP chunks: "" (none), "zstd" or "lz4"
   CameraIntrinsics intrinsics;   // the CameraInfo messages'
+  // Where set, the colour camera's info differs (these intrinsics) and /tf_static places it
+  // at `color_in_depth` (a translation in the depth camera's frame) under camera_link.
+  std::optional<CameraIntrinsics> color_intrinsics;
+  Eigen::Vector3d color_in_depth = Eigen::Vector3d::Zero();
 };
 
 // Writes `out_dir` (metadata.yaml and scan.db3 or scan.mcap) from the TUM folder `tum_dir`.
