@@ -265,6 +265,8 @@ cv::Mat ColorIntoDepthCamera(const RgbdSequence& sequence, const RgbdFrame& fram
   std::vector<double> key = {kd.fx, kd.fy, kd.cx, kd.cy, double(kd.width), double(kd.height),
                              kc.fx, kc.fy, kc.cx, kc.cy};
   key.insert(key.end(), m.data(), m.data() + 16);
+  key.insert(key.end(), kc.distortion.begin(), kc.distortion.end());
+  const bool distorted = kc.HasDistortion();
   const bool fixed = depth.empty();
   if (fixed && key == fixed_key) {
     cv::Mat out;
@@ -278,8 +280,11 @@ cv::Mat ColorIntoDepthCamera(const RgbdSequence& sequence, const RgbdFrame& fram
       const float z = depth.empty() ? 0.0f : depth.at<float>(v, u);
       const Eigen::Vector3d p = z > 0 ? Eigen::Vector3d(r * (z * ray) + t) : Eigen::Vector3d(r * ray);
       const bool ahead = p.z() > 1e-9;
-      map_x.at<float>(v, u) = ahead ? static_cast<float>(kc.fx * p.x() / p.z() + kc.cx) : -1.0f;
-      map_y.at<float>(v, u) = ahead ? static_cast<float>(kc.fy * p.y() / p.z() + kc.cy) : -1.0f;
+      // The pinhole pixel, then where the colour camera's lens put it in the stored image.
+      Eigen::Vector2d at(kc.fx * p.x() / p.z() + kc.cx, kc.fy * p.y() / p.z() + kc.cy);
+      if (ahead && distorted) at = kc.Distort(at.x(), at.y());
+      map_x.at<float>(v, u) = ahead ? static_cast<float>(at.x()) : -1.0f;
+      map_y.at<float>(v, u) = ahead ? static_cast<float>(at.y()) : -1.0f;
     }
   }
   if (fixed) fixed_key = key, fixed_x = map_x, fixed_y = map_y;

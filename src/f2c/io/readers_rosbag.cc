@@ -435,12 +435,7 @@ RgbdSequence ReadRosbag(const fs::path& path, const IoOptions& options) {
     const bool same = kc.fx == kd.fx && kc.fy == kd.fy && kc.cx == kd.cx && kc.cy == kd.cy && kc.width == kd.width &&
                       kc.height == kd.height && color_from_depth.matrix().isIdentity(1e-12);
     if (!same) {
-      if (kc.HasDistortion()) {
-        spdlog::warn("{}: the colour camera's distortion is not applied ({})", path.string(), color_info);
-      }
-      CameraIntrinsics pinhole = kc;
-      pinhole.distortion = {};
-      seq.color_camera = ColorCamera{pinhole, color_from_depth};
+      seq.color_camera = ColorCamera{kc, color_from_depth};
       if (!placed) {
         spdlog::warn(
             "{}: colour (frame '{}') is another camera than depth (frame '{}'), and /tf_static does not join "

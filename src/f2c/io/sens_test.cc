@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "f2c/io/image.h"
+#include "f2c/io/image_write.h"
 #include "f2c/io/sequence.h"
 #include "f2c/testing/sens_writer.h"
 #include "f2c/util/error.h"
@@ -140,6 +141,59 @@ TEST(ReadSens, AlignToColourPutsDepthEdgesOnTheColourCamerasEdges) {
   EXPECT_GT(near, 0.95 * all) << near << " of " << all << " depth edges within a pixel of the colour camera's";
   EXPECT_GT(agree, 0.99 * both) << agree << " of " << both;
   EXPECT_GT(both, 0.9 * 760 * 560);  // holes only where the depth camera does not see
+}
+
+// A colour camera with lens distortion (a bag's CameraInfo carries it): colour resampled into
+// the depth camera through the distortion lands on the depth camera's pixels, as in the test
+// above; read as a pinhole camera, it would not.
+TEST(ColorCamera, LensDistortionIsAppliedWhenColourIsResampled) {
+  const fs::path dir = testing::FreshTempDir("color_distortion");
+  const testing::SensOptions o = TwoCameras();
+  CameraIntrinsics kc = o.color;
+  kc.distortion = {-0.25, 0.08, 0.001, -0.001, 0};
+  const Rigid3d pose = Walk(1)[0];
+  const testing::RenderedFrame view = testing::Render(testing::SyntheticScene(), testing::TestIntrinsics(), pose);
+  const cv::Mat pinhole =
+      testing::Render(testing::SyntheticScene(), o.color, pose * o.color_from_depth.inverse()).color;
+  // The stored, distorted image: each stored pixel from the pinhole pixel the lens moved there.
+  cv::Mat map_x(kc.height, kc.width, CV_32F), map_y(kc.height, kc.width, CV_32F);
+  for (int y = 0; y < kc.height; ++y) {
+    for (int x = 0; x < kc.width; ++x) {
+      Eigen::Vector2d undistorted(x, y);
+      for (int i = 0; i < 20; ++i) undistorted += Eigen::Vector2d(x, y) - kc.Distort(undistorted.x(), undistorted.y());
+      map_x.at<float>(y, x) = static_cast<float>(undistorted.x());
+      map_y.at<float>(y, x) = static_cast<float>(undistorted.y());
+    }
+  }
+  cv::Mat stored;
+  cv::remap(pinhole, stored, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  cv::Mat depth_mm;
+  view.depth.convertTo(depth_mm, CV_16U, 1000.0);
+  WritePngFile(dir / "color.png", stored);
+  WritePngFile(dir / "depth.png", depth_mm);
+  RgbdSequence seq;
+  seq.root = dir;
+  seq.intrinsics = testing::TestIntrinsics();
+  seq.color_camera = ColorCamera{kc, o.color_from_depth};
+  RgbdFrame frame;
+  frame.color_path = dir / "color.png";
+  frame.depth_path = dir / "depth.png";
+  seq.frames = {frame};
+  cv::Mat grey_truth;
+  cv::cvtColor(view.color, grey_truth, cv::COLOR_BGR2GRAY);
+  grey_truth.convertTo(grey_truth, CV_32F);
+  const cv::Rect inner(40, 40, 560, 400);
+  auto error = [&](const RgbdSequence& s) {
+    cv::Mat grey;
+    cv::cvtColor(LoadColor(s, s.frames[0], cv::Size(640, 480)), grey, cv::COLOR_BGR2GRAY);
+    grey.convertTo(grey, CV_32F);
+    return cv::mean(cv::abs(grey(inner) - grey_truth(inner)))[0];
+  };
+  const double one_pixel = cv::mean(cv::abs(grey_truth(inner + cv::Point(1, 0)) - grey_truth(inner)))[0];
+  EXPECT_LT(error(seq), one_pixel);
+  RgbdSequence as_pinhole = seq;
+  as_pinhole.color_camera->intrinsics.distortion = {};
+  EXPECT_GT(error(as_pinhole), 2 * one_pixel);
 }
 
 TEST(ReadSens, RawColourAndRawDepth) {

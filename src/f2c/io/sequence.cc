@@ -234,8 +234,8 @@ std::string CacheContext(const RgbdSequence& seq, const std::string& options_jso
   if (seq.color_camera) {  // colour resampled from another camera: what SIFT sees depends on it
     const CameraIntrinsics& c = seq.color_camera->intrinsics;
     const Eigen::Matrix4d m = seq.color_camera->color_from_depth.matrix();
-    context += fmt::format("|C {:.17g} {:.17g} {:.17g} {:.17g} {} {} {:.17g}", c.fx, c.fy, c.cx, c.cy, c.width,
-                           c.height, fmt::join(m.data(), m.data() + 16, " "));
+    context += fmt::format("|C {:.17g} {:.17g} {:.17g} {:.17g} {} {} {:.17g} {:.17g}", c.fx, c.fy, c.cx, c.cy, c.width,
+                           c.height, fmt::join(m.data(), m.data() + 16, " "), fmt::join(c.distortion, " "));
   }
   if (seq.depth_camera) {  // depth warped from another camera: what every stage sees depends on it
     const CameraIntrinsics& d = seq.depth_camera->intrinsics;

@@ -70,7 +70,7 @@ struct RgbdFrame {
 // resolution, intrinsics or place): colour is resampled into the depth camera when it is
 // read (LoadColor), so every stage sees one camera, the depth's.
 struct ColorCamera {
-  CameraIntrinsics intrinsics;  // pinhole, with its image size
+  CameraIntrinsics intrinsics;  // with its image size and lens distortion (applied when sampling it)
   Rigid3d color_from_depth = Rigid3d::Identity();
 };
 
