@@ -73,7 +73,12 @@ sqlite3* CachedDb(const fs::path& path) {
 
 }  // namespace
 
-std::string ReadSqliteBlob(const fs::path& path, int64_t row, uint64_t offset, uint64_t size) {
+namespace {
+
+// `size` bytes at `offset` of row `row`'s message blob (at most what it holds past `offset`
+// when `clip`), and the blob's whole size in `*blob_bytes`.
+std::string ReadBlob(const fs::path& path, int64_t row, uint64_t offset, uint64_t size, bool clip,
+                     uint64_t* blob_bytes) {
   sqlite3* db = CachedDb(path);
   sqlite3_blob* blob = nullptr;
   if (sqlite3_blob_open(db, "main", "messages", "data", row, 0, &blob) != SQLITE_OK) {
@@ -82,17 +87,25 @@ std::string ReadSqliteBlob(const fs::path& path, int64_t row, uint64_t offset, u
     ThrowInputError(path, fmt::format("message row {}: {}", row, why));
   }
   const uint64_t bytes = static_cast<uint64_t>(sqlite3_blob_bytes(blob));
-  std::string out;
+  *blob_bytes = bytes;
+  if (clip && offset <= bytes) size = std::min(size, bytes - offset);
   if (offset > bytes || size > bytes - offset || size > (uint64_t{1} << 31)) {
     sqlite3_blob_close(blob);
     ThrowInputError(path,
                     fmt::format("message row {}: {} bytes at {} lie past its {} bytes", row, size, offset, bytes));
   }
-  out.resize(size);
+  std::string out(size, '\0');
   const int status = sqlite3_blob_read(blob, out.data(), static_cast<int>(size), static_cast<int>(offset));
   sqlite3_blob_close(blob);
   if (status != SQLITE_OK) ThrowInputError(path, fmt::format("message row {}: {}", row, sqlite3_errstr(status)));
   return out;
+}
+
+}  // namespace
+
+std::string ReadSqliteBlob(const fs::path& path, int64_t row, uint64_t offset, uint64_t size) {
+  uint64_t blob_bytes = 0;
+  return ReadBlob(path, row, offset, size, false, &blob_bytes);
 }
 
 namespace rosbag {
@@ -142,18 +155,9 @@ class Db3 : public Recording {
     return MessagesOn(connections_, messages_, topic);
   }
   MessageData Read(const MessageRef& message, uint64_t max_bytes) const override {
-    sqlite3* db = CachedDb(path_);
-    sqlite3_blob* blob = nullptr;
-    if (sqlite3_blob_open(db, "main", "messages", "data", message.row, 0, &blob) != SQLITE_OK) {
-      const std::string why = sqlite3_errmsg(db);
-      sqlite3_blob_close(blob);
-      ThrowInputError(path_, fmt::format("message row {}: {}", message.row, why));
-    }
     MessageData out;
-    out.size = static_cast<uint64_t>(sqlite3_blob_bytes(blob));
-    sqlite3_blob_close(blob);
     out.sqlite_row = message.row;
-    out.bytes = ReadSqliteBlob(path_, message.row, 0, max_bytes == 0 ? out.size : std::min(max_bytes, out.size));
+    out.bytes = ReadBlob(path_, message.row, 0, max_bytes == 0 ? UINT64_MAX : max_bytes, true, &out.size);
     return out;
   }
   bool cdr() const override { return true; }
