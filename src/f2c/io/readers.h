@@ -30,4 +30,12 @@ std::vector<std::filesystem::path> ListImages(const std::filesystem::path& dir);
 std::vector<std::pair<size_t, size_t>> AssociateTimestamps(const std::vector<double>& a, const std::vector<double>& b,
                                                            double max_difference);
 
+// Sets a paired frame's time stamp (the depth's or the colour's, IoOptions::stamp) and its
+// colour image's offset from it.
+void StampFrame(double color_stamp, double depth_stamp, FrameStamp stamp, RgbdFrame& frame);
+
+// Orders frames by time stamp: greedy pairing (AssociateTimestamps) may cross two pairs, whose
+// depth stamps then run against the colour order.
+void SortFramesByTime(std::vector<RgbdFrame>& frames);
+
 }  // namespace f2c::internal

@@ -455,13 +455,14 @@ RgbdSequence ReadRosbag(const fs::path& path, const IoOptions& options) {
   for (const ImageMessage& m : depths) td.push_back(m.stamp);
   for (const auto& [ic, id] : AssociateTimestamps(tc, td, options.max_time_difference)) {
     RgbdFrame frame;
-    frame.timestamp = colors[ic].stamp;
+    StampFrame(colors[ic].stamp, depths[id].stamp, options.stamp, frame);
     frame.color_path = frame.depth_path = bag.path();  // the storage file of a ROS 2 bag folder
     frame.color_embedded = colors[ic].image;
     frame.depth_embedded = depths[id].image;
     frame.name = fmt::format("depth-{:06d}", id);
     seq.frames.push_back(frame);
   }
+  SortFramesByTime(seq.frames);
   if (seq.frames.empty()) {
     ThrowInputError(path, fmt::format("no depth image ({}) within {} s of a colour image ({})", depth_topic,
                                       options.max_time_difference, color_topic));

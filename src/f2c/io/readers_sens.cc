@@ -172,12 +172,11 @@ RgbdSequence ReadSens(const fs::path& path, const IoOptions& options) {
 
   Trajectory truth;
   uint64_t invalid_poses = 0;
-  std::vector<uint64_t> stamps;
+  std::vector<uint64_t> stamps, color_stamps;  // the frame's (IoOptions::stamp) and the colour's
   for (uint64_t k = 0; k < frames; ++k) {
     const Eigen::Matrix4d world_from_camera = r.Matrix("a frame's pose");
     const uint64_t color_stamp = r.Read<uint64_t>("a frame's time stamps");
     const uint64_t depth_stamp = r.Read<uint64_t>("a frame's time stamps");
-    (void)color_stamp;
     const uint64_t color_bytes = r.Read<uint64_t>("a frame's sizes");
     const uint64_t depth_bytes = r.Read<uint64_t>("a frame's sizes");
     RgbdFrame frame;
@@ -189,7 +188,8 @@ RgbdSequence ReadSens(const fs::path& path, const IoOptions& options) {
     depth.size = depth_bytes;
     frame.color_embedded = color;
     frame.depth_embedded = depth;
-    stamps.push_back(depth_stamp);
+    stamps.push_back(options.stamp == FrameStamp::kDepth ? depth_stamp : color_stamp);
+    color_stamps.push_back(color_stamp);
     seq.frames.push_back(frame);
     // ScanNet marks frames its reconstruction lost with -inf poses: no ground truth there.
     if (world_from_camera.allFinite()) {
@@ -203,6 +203,9 @@ RgbdSequence ReadSens(const fs::path& path, const IoOptions& options) {
   for (size_t k = 1; k < stamps.size(); ++k) stamped = stamped && stamps[k] > stamps[k - 1];
   for (size_t k = 0; k < seq.frames.size(); ++k) {
     seq.frames[k].timestamp = stamped ? static_cast<double>(stamps[k]) * 1e-6 : k / options.assumed_fps;
+    if (stamped) {
+      seq.frames[k].color_time = (static_cast<double>(color_stamps[k]) - static_cast<double>(stamps[k])) * 1e-6;
+    }
   }
   for (double& t : truth.timestamps) t = seq.frames[static_cast<size_t>(t)].timestamp;
   if (!truth.empty()) {

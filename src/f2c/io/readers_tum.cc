@@ -92,6 +92,16 @@ std::vector<std::pair<size_t, size_t>> AssociateTimestamps(const std::vector<dou
   return matches;
 }
 
+void StampFrame(double color_stamp, double depth_stamp, FrameStamp stamp, RgbdFrame& frame) {
+  frame.timestamp = stamp == FrameStamp::kDepth ? depth_stamp : color_stamp;
+  frame.color_time = color_stamp - frame.timestamp;
+}
+
+void SortFramesByTime(std::vector<RgbdFrame>& frames) {
+  std::stable_sort(frames.begin(), frames.end(),
+                   [](const RgbdFrame& a, const RgbdFrame& b) { return a.timestamp < b.timestamp; });
+}
+
 RgbdSequence ReadTum(const fs::path& dir, const IoOptions& options) {
   const auto colors = ReadFileList(dir / "rgb.txt", dir);
   const auto depths = ReadFileList(dir / "depth.txt", dir);
@@ -102,12 +112,13 @@ RgbdSequence ReadTum(const fs::path& dir, const IoOptions& options) {
   seq.depth_scale = 1.0 / 5000.0;
   for (const auto& [ic, id] : AssociateTimestamps(tc, td, options.max_time_difference)) {
     RgbdFrame frame;
-    frame.timestamp = colors[ic].timestamp;  // the TUM tools stamp a pair with its colour image
+    StampFrame(colors[ic].timestamp, depths[id].timestamp, options.stamp, frame);
     frame.color_path = colors[ic].path;
     frame.depth_path = depths[id].path;
     frame.name = frame.depth_path.filename().string();
     seq.frames.push_back(frame);
   }
+  SortFramesByTime(seq.frames);
   if (seq.frames.empty()) {
     ThrowInputError(dir / "depth.txt", fmt::format("no depth image within {} s of a colour image in rgb.txt",
                                                    options.max_time_difference));

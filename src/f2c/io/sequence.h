@@ -58,12 +58,15 @@ struct EmbeddedImage {
 };
 
 struct RgbdFrame {
-  double timestamp = 0;  // seconds
+  // Seconds: the depth image's time where colour and depth have their own (IoOptions::stamp),
+  // since the geometry that fixes a pose is the depth's.
+  double timestamp = 0;
   std::filesystem::path color_path;
   std::filesystem::path depth_path;
   std::string name;  // short name for logs and .conf files (the depth file's name)
   // Set when the image lies inside the file at color_path / depth_path.
   std::optional<EmbeddedImage> color_embedded, depth_embedded;
+  double color_time = 0;  // the colour image's time stamp minus `timestamp` (s)
 };
 
 // A colour camera other than the depth camera (recordings whose two sensors differ in
@@ -80,6 +83,11 @@ struct DepthCamera {
   CameraIntrinsics intrinsics;  // as stored (with its distortion, if any)
   Rigid3d color_from_depth = Rigid3d::Identity();
 };
+
+// Whose time stamp a frame carries where colour and depth images have their own (TUM folders,
+// ROS bags, .sens files).
+enum class FrameStamp { kDepth, kColor };
+F2C_ENUM_NAMES(FrameStamp, {{FrameStamp::kDepth, "depth"}, {FrameStamp::kColor, "color"}})
 
 // Which camera the frames are seen from where depth and colour come from two (recordings).
 enum class AlignTo { kDepth, kColor };
@@ -132,6 +140,12 @@ struct IoOptions {
   // (depth), or depth forward-warped into the colour camera (color). BENCHMARKS.md measures
   // both.
   AlignTo align_to = AlignTo::kDepth;
+  // The time a frame (and its pose in every trajectory written) is stamped with: the depth
+  // image's, whose geometry the registration measures, or the colour image's (the TUM tools'
+  // convention; the two images are then taken as one moment, RgbdFrame::color_time 0).
+  // Unsynchronised streams such as TUM's Kinect differ by up to 20 ms, which is up to 8 mm of
+  // motion on a hand-held camera; BENCHMARKS.md ("Colour and depth moments") measures both.
+  FrameStamp stamp = FrameStamp::kDepth;
 
   template <class V>
   void Fields(V& v) {
@@ -158,6 +172,9 @@ struct IoOptions {
     F2C_FIELD(v, align_to, "--align-to", {},
               "recordings with two cameras: depth (colour resampled into the depth camera) or color (depth warped "
               "into the colour camera, holes left empty)");
+    F2C_FIELD(v, stamp, "--stamp", {},
+              "depth or color: whose time stamp a frame and its pose carry where the two images have their own "
+              "(color: the two are taken as one moment)");
     F2C_FIELD(v, depth_scale, "--depth-scale", AtLeast(0.0),
               "ROS bags: metres per unit of 16-bit depth (0: the recording's own, else 0.001)");
   }

@@ -55,7 +55,15 @@ TEST(ReadTum, AssociatesAndReadsGroundTruth) {
   const RgbdSequence seq = ReadSequence(dir);
   EXPECT_EQ(seq.layout, DatasetLayout::kTum);
   ASSERT_EQ(seq.frames.size(), 5u);
-  EXPECT_NEAR(seq.frames[2].timestamp, 1000.0 + 2 / 30.0, 1e-6);
+  // The depth image's stamp (the folder's depth lies 1 ms after its colour), and the colour's
+  // offset from it.
+  EXPECT_NEAR(seq.frames[2].timestamp, 1000.0 + 2 / 30.0 + 0.001, 1e-6);
+  EXPECT_NEAR(seq.frames[2].color_time, -0.001, 1e-6);
+  IoOptions by_color;
+  by_color.stamp = FrameStamp::kColor;
+  const RgbdSequence colour_stamped = ReadSequence(dir, by_color);
+  EXPECT_NEAR(colour_stamped.frames[2].timestamp, 1000.0 + 2 / 30.0, 1e-6);
+  EXPECT_NEAR(colour_stamped.frames[2].color_time, 0.0, 1e-9);
   EXPECT_FALSE(seq.intrinsics.has_value());
   EXPECT_DOUBLE_EQ(seq.depth_scale, 1.0 / 5000.0);
   ASSERT_TRUE(seq.ground_truth.has_value());
@@ -73,7 +81,7 @@ TEST(ReadTum, FrameSelection) {
   io.every = 2;
   const RgbdSequence seq = ReadSequence(dir, io);
   ASSERT_EQ(seq.frames.size(), 3u);  // frames 1, 3, 5
-  EXPECT_NEAR(seq.frames[1].timestamp, 1000.0 + 3 / 30.0, 1e-6);
+  EXPECT_NEAR(seq.frames[1].timestamp, 1000.0 + 3 / 30.0 + 0.001, 1e-6);
   io.first = 10;
   EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir, io); }),
             dir.string() + ": frame selection --first 10 --last -1 leaves no frame (the sequence has 6)");
@@ -121,8 +129,8 @@ TEST(ReadTum, ListsInTimeOrderTimeStampsOnceAndDroppedImagesCounted) {
   }
   WriteFileAtomic(dir / "rgb.txt", rgb[0] + "\n" + rgb[1] + "\n" + rgb[1] + "\n");
   EXPECT_EQ(testing::InputErrorMessage([&] { ReadSequence(dir); }),
-            (dir / "rgb.txt").string() +
-                fmt::format(":3: time stamp {:.6f} listed again (line 2)", in_order.frames[1].timestamp));
+            (dir / "rgb.txt").string() + fmt::format(":3: time stamp {:.6f} listed again (line 2)",
+                                                     in_order.frames[1].timestamp + in_order.frames[1].color_time));
   WriteFileAtomic(dir / "rgb.txt", rgb[0] + "\n" + rgb[1] + "\n" + rgb[2] + "\n" + rgb[3] + "\n");
   WriteFileAtomic(dir / "depth.txt", depth[0] + "\n" + depth[3] + "\n");
   testing::LogCapture log;

@@ -266,9 +266,47 @@ Trajectory ConcatenatePairs(const RgbdSequence& sequence, const std::vector<Pair
   return t0;
 }
 
+void ReferColorToDepthMoments(const RgbdSequence& sequence, Odometry* odometry) {
+  const int n = static_cast<int>(sequence.frames.size());
+  F2C_CHECK(static_cast<int>(odometry->t0.size()) == n && static_cast<int>(odometry->pairs.size()) + 1 == n,
+            "T0 and the pairs of the sequence's frames");
+  odometry->depth_from_color.assign(n, std::nullopt);
+  bool any = false;
+  const auto& world_from_camera = odometry->t0.world_from_camera;
+  for (int k = 0; k < n && n > 1; ++k) {
+    const double offset = sequence.frames[k].color_time;
+    if (offset == 0) continue;
+    const int a = std::max(k - 1, 0), b = std::min(k + 1, n - 1);
+    const double seconds = sequence.frames[b].timestamp - sequence.frames[a].timestamp;
+    if (!(seconds > 0)) continue;
+    // The camera at t from the camera at t + offset: the motion from a to b scaled by
+    // offset / seconds, its rotation about its axis and its translation in proportion.
+    const Rigid3d a_from_b = world_from_camera[a].inverse() * world_from_camera[b];
+    const double f = offset / seconds;
+    const Eigen::AngleAxisd turn(a_from_b.linear());
+    Rigid3d depth_from_color = Rigid3d::Identity();
+    depth_from_color.linear() = Eigen::AngleAxisd(turn.angle() * f, turn.axis()).toRotationMatrix();
+    depth_from_color.translation() = f * a_from_b.translation();
+    odometry->depth_from_color[k] = depth_from_color;
+    any = true;
+  }
+  if (!any) {
+    odometry->depth_from_color.clear();
+    return;
+  }
+  const auto motion = [&](int k) { return odometry->depth_from_color[k].value_or(Rigid3d::Identity()); };
+  for (PairAlignment& pair : odometry->pairs) {
+    if (pair.method != AlignmentMethod::kSift && pair.method != AlignmentMethod::kTrack) continue;
+    pair.prev_from_curr = motion(pair.Reference()) * pair.prev_from_curr * motion(pair.frame).inverse();
+  }
+  odometry->t0 = ConcatenatePairs(sequence, odometry->pairs);
+}
+
 Odometry AlignFrames(const RgbdSequence& sequence, const OdometryOptions& options, const OdometryRun& run) {
-  return options.keyframes.enabled ? AlignWithKeyframes(sequence, options, run)
-                                   : AlignConsecutive(sequence, options, run);
+  Odometry odometry =
+      options.keyframes.enabled ? AlignWithKeyframes(sequence, options, run) : AlignConsecutive(sequence, options, run);
+  if (options.sync_color) ReferColorToDepthMoments(sequence, &odometry);
+  return odometry;
 }
 
 Odometry AlignConsecutive(const RgbdSequence& seq, const OdometryOptions& options, const OdometryRun& run) {

@@ -110,6 +110,10 @@ struct OdometryOptions {
   // Seed of every random choice (RANSAC); pair k uses seed + k, so results do not depend on
   // thread scheduling.
   uint64_t seed = 0;
+  // Frames whose colour and depth images were taken at different moments
+  // (RgbdFrame::color_time; TUM's Kinect: up to 20 ms apart): what was measured from colour
+  // keypoints is referred to the depth images' moments (ReferColorToDepthMoments).
+  bool sync_color = true;
 
   template <class V>
   void Fields(V& v) {
@@ -125,6 +129,8 @@ struct OdometryOptions {
     F2C_FIELD(v, min_inliers, "--min-inliers", AtLeast(3), "fewer SIFT inliers fall back to ICP");
     F2C_FIELD(v, fitness_threshold, "", Positive(), "depth overlap: points within this distance (m)");
     F2C_FIELD(v, icp_fallback, "!--no-icp-fallback", {}, "never use depth-only ICP");
+    F2C_FIELD(v, sync_color, "--sync-color=on|off", {},
+              "colour taken at another moment than depth: refer what colour measured to the depth's moment");
     F2C_NESTED(v, keyframes);
     F2C_NESTED(v, icp);
   }
@@ -181,6 +187,11 @@ struct OdometryTimings {
 struct Odometry {
   std::vector<PairAlignment> pairs;  // pairs[k-1] aligns frame k to its reference
   Trajectory t0;                     // world_from_camera per frame, T0[0] = identity
+  // Per frame whose colour was taken at another moment than its depth
+  // (OdometryOptions::sync_color): the camera at its depth's moment from the camera at its
+  // colour's. Points measured from its colour keypoints are in the colour's camera; this moves
+  // them to the depth's. Empty where every frame's two images share a moment.
+  std::vector<std::optional<Rigid3d>> depth_from_color;
   OdometryTimings timings;
 };
 
@@ -198,8 +209,20 @@ struct OdometryRun {
   std::function<void(int frame, const SiftFeatures& sift)> on_sift;
 };
 
+// Where a frame's colour and depth were taken at different moments (RgbdFrame::color_time),
+// a colour keypoint sees the scene from where the camera was at the colour's moment while its
+// depth, and the pose the frame stands for, are the depth's: at a hand-held camera's 0.5 m/s
+// and 30 deg/s, 20 ms is 1 cm and 0.6 degrees. So each frame's motion over its offset is
+// taken from T0 (the central difference of its neighbours, as a constant velocity), kept in
+// odometry->depth_from_color, and every pair measured from colour (tracked or SIFT; not ICP,
+// which is depth's) is referred to the depth's moments,
+//   reference_from_frame = depth_from_color[reference] * measured * color_from_depth[frame],
+// and T0 chained again from them. BENCHMARKS.md, "Colour and depth moments", measures it.
+void ReferColorToDepthMoments(const RgbdSequence& sequence, Odometry* odometry);
+
 // Aligns every frame of `sequence` (intrinsics required): AlignWithKeyframes when
-// options.keyframes.enabled, AlignConsecutive otherwise.
+// options.keyframes.enabled, AlignConsecutive otherwise; then ReferColorToDepthMoments when
+// options.sync_color.
 Odometry AlignFrames(const RgbdSequence& sequence, const OdometryOptions& options, const OdometryRun& run = {});
 
 // Each frame to the current keyframe, in frame order (decoding runs ahead in parallel).

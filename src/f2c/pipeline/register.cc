@@ -75,6 +75,7 @@ RefineStage Refine(const RegisterResult& r, const RegisterOptions& options, Feat
   if (*store) {
     keyframes = (*store)->Finish(LoopKeyframes(static_cast<int>(r.sequence.frames.size()),
                                                options.refine.loops.keyframes, OdometryKeyframes(r.odometry)));
+    ReferToDepthMoments(r.odometry.depth_from_color, &keyframes);
     stage.keyframes = static_cast<int>(keyframes.size());
     stage.keyframes_decoded = (*store)->computed();
   }

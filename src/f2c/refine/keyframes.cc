@@ -31,6 +31,15 @@ Keyframe MakeKeyframe(int frame, const SiftFeatures& sift, int max_keypoints) {
   return k;
 }
 
+void ReferToDepthMoments(const std::vector<std::optional<Rigid3d>>& depth_from_color,
+                         std::vector<Keyframe>* keyframes) {
+  for (Keyframe& keyframe : *keyframes) {
+    if (keyframe.frame >= static_cast<int>(depth_from_color.size()) || !depth_from_color[keyframe.frame]) continue;
+    const Eigen::Isometry3f motion = depth_from_color[keyframe.frame]->cast<float>();
+    for (Eigen::Vector3f& p : keyframe.points) p = motion * p;
+  }
+}
+
 namespace {
 
 constexpr char kMagic[8] = {'F', '2', 'C', 'K', 'E', 'Y', 'S', '\0'};

@@ -15,6 +15,7 @@
 #include <map>
 #include <mutex>
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -48,6 +49,10 @@ struct Keyframe {
 
 // The keyframe of `frame` from its SIFT (an even subsample of max_keypoints).
 Keyframe MakeKeyframe(int frame, const SiftFeatures& sift, int max_keypoints);
+
+// Keyframes' points, measured from colour, moved to their depth's moment
+// (Odometry::depth_from_color, indexed by frame; empty: nothing to move).
+void ReferToDepthMoments(const std::vector<std::optional<Rigid3d>>& depth_from_color, std::vector<Keyframe>* keyframes);
 
 class KeyframeStore {
  public:

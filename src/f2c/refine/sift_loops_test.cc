@@ -271,6 +271,25 @@ TEST(KeyframeStore, OfferedKeyframesAreCachedAndReadBack) {
                                                   "recomputing those keyframes"});
 }
 
+// A keyframe's points, seen from where the camera was at its colour's moment, are moved by
+// that frame's motion to its depth's moment; frames without one keep theirs.
+TEST(ReferToDepthMoments, MovesTheKeyframesOfFramesWithAMotion) {
+  std::vector<Keyframe> keyframes(2);
+  keyframes[0].frame = 1;
+  keyframes[1].frame = 3;
+  for (Keyframe& k : keyframes) k.points = {Eigen::Vector3f(0.1f, -0.2f, 1.5f), Eigen::Vector3f(0, 0, 2)};
+  std::vector<std::optional<Rigid3d>> depth_from_color(4);
+  Rigid3d motion = Rigid3d::Identity();
+  motion.linear() = Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  motion.translation() = Eigen::Vector3d(0.004, 0, 0);
+  depth_from_color[3] = motion;
+  ReferToDepthMoments(depth_from_color, &keyframes);
+  EXPECT_EQ(keyframes[0].points[0], Eigen::Vector3f(0.1f, -0.2f, 1.5f));
+  const Eigen::Vector3d moved = motion * Eigen::Vector3d(0, 0, 2);
+  EXPECT_NEAR((keyframes[1].points[1].cast<double>() - moved).norm(), 0.0, 1e-6);
+  EXPECT_NEAR(keyframes[1].points[1].x(), 2 * std::sin(0.01) + 0.004, 1e-6);
+}
+
 TEST(LoopKeyframes, TheOdometrysKeyframesOrEveryIntervalthFrame) {
   KeyframeOptions options;
   options.interval = 0;

@@ -113,7 +113,8 @@ std::vector<std::vector<Message>> FrameMessages(const fs::path& tum_dir, const R
   std::vector<std::vector<Message>> frames;
   for (size_t i = 0; i < seq.frames.size(); ++i) {
     const RgbdFrame& f = seq.frames[i];
-    const auto ns = static_cast<int64_t>(std::llround(f.timestamp * 1e9));
+    const auto ns = static_cast<int64_t>(std::llround(f.timestamp * 1e9));  // the depth image's
+    const auto color_ns = static_cast<int64_t>(std::llround((f.timestamp + f.color_time) * 1e9));
     cv::Mat bgr = DecodeImageFile(f.color_path, cv::IMREAD_COLOR), rgb;
     cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
     const cv::Mat raw = DecodeImageFile(f.depth_path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
@@ -132,9 +133,8 @@ std::vector<std::vector<Message>> FrameMessages(const fs::path& tum_dir, const R
       m.push_back({kTopics[3].first, ns, CameraInfoMessage(k, ns, "camera_depth_optical_frame")});
       if (o.color_intrinsics) m.push_back({kTopics[4].first, ns, TfStaticMessage(o.color_in_depth, ns)});
     }
-    m.push_back({kTopics[0].first, ns, ImageMessage(rgb, "rgb8", ns, "camera_color_optical_frame")});
-    m.push_back(
-        {kTopics[2].first, ns + 1000000, ImageMessage(metres, "32FC1", ns + 1000000, "camera_depth_optical_frame")});
+    m.push_back({kTopics[0].first, color_ns, ImageMessage(rgb, "rgb8", color_ns, "camera_color_optical_frame")});
+    m.push_back({kTopics[2].first, ns, ImageMessage(metres, "32FC1", ns, "camera_depth_optical_frame")});
     frames.push_back(m);
   }
   return frames;
