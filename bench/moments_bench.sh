@@ -45,3 +45,20 @@ for seq in tum_fr1_xyz_15hz tum_fr1_desk_15hz 7scenes_redkitchen_15hz; do
 done
 [ -f "$work/sim-object-0/rgb.txt" ] || "$bin" simulate --scene object --frames 300 --seed 0 -q -o "$work/sim-object-0" > /dev/null
 row "object-0 (300 frames)" "$work/sim-object-0"
+# Simulated walks whose colour is taken up to 15 ms before or after depth (--color-offset 15):
+# depth stamps, without and with the colour referred to the depth's moment.
+printf "\n%-24s %-5s %8s %8s\n" "walk (150 frames)" sync "T0 ATE" "ATE m"
+for scene in apartment two-rooms; do
+  for seed in 0 1 2; do
+    sim="$work/sim-$scene-$seed-offset"
+    [ -f "$sim/rgb.txt" ] || "$bin" simulate --scene "$scene" --frames 150 --seed "$seed" --color-offset 15 -q \
+      -o "$sim" > /dev/null
+    for sync in off on; do
+      out="$work/$scene-$seed-offset-$sync"
+      rm -rf "$out"
+      "$bin" register "$sim" -o "$out" -q --no-mesh --no-report --sync-color "$sync" > "$out.log" 2>&1
+      printf "%-24s %-5s %8s %8s\n" "$scene-$seed" "$sync" "$(ate "$out/trajectory_t0.txt" "$sim")" \
+        "$(ate "$out/trajectory.txt" "$sim")"
+    done
+  done
+done

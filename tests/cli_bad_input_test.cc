@@ -273,6 +273,9 @@ TEST(Cli, FailedWritesToStdoutAndAbsurdOptionsAreErrors) {
   r = RunCli("simulate --frames 3 --depth-distortion nan -o " + (testing::FreshTempDir("cli_absurd") / "s").string());
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(r.output, "error: --depth-distortion: must be in [-1, 1], got nan\n");
+  r = RunCli("simulate --frames 3 --color-offset 20 -o " + (testing::FreshTempDir("cli_absurd") / "s").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.output, "error: --color-offset: must be below half a frame interval (16.7 ms at 30 frames/s), got 20\n");
   r = RunCli("register " + dir.string() + " --intrinsics primesense -q -o ''");
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(r.output, "error: (empty path): cannot create output folder: Invalid argument\n");

@@ -20,9 +20,34 @@ namespace fs = std::filesystem;
 void SimulateOptions::Check() const {
   CheckFields(*this);
   intrinsics.Validate("--intrinsics");
+  // Beyond half a frame interval a colour image lies nearer another frame's depth, and the
+  // folder's pairing (nearest in time) would pair it with that one.
+  const double half_interval_ms = 500.0 / walk.fps;
+  if (!(color_offset_ms < half_interval_ms)) {
+    ThrowInputError("--color-offset", fmt::format("must be below half a frame interval ({:.3g} ms at {:g} frames/s), "
+                                                  "got {:g}",
+                                                  half_interval_ms, walk.fps, color_offset_ms));
+  }
 }
 
 namespace {
+
+// The walk's pose at time t (seconds of the walk): its frames' poses interpolated (rotation
+// along the shorter arc, translation linearly), the first or last beyond them.
+Rigid3d PoseAt(const Trajectory& walk, double t) {
+  const auto& times = walk.timestamps;
+  if (t <= times.front()) return walk.world_from_camera.front();
+  if (t >= times.back()) return walk.world_from_camera.back();
+  const size_t b = std::upper_bound(times.begin(), times.end(), t) - times.begin();
+  const size_t a = b - 1;
+  const double f = (t - times[a]) / (times[b] - times[a]);
+  const Rigid3d& pa = walk.world_from_camera[a];
+  const Rigid3d& pb = walk.world_from_camera[b];
+  Rigid3d pose = Rigid3d::Identity();
+  pose.linear() = Eigen::Quaterniond(pa.linear()).slerp(f, Eigen::Quaterniond(pb.linear())).toRotationMatrix();
+  pose.translation() = (1 - f) * pa.translation() + f * pb.translation();
+  return pose;
+}
 
 // A point of frame a's exact geometry at pixel (u, v) seen also by frame b, or false.
 bool Correspond(const Renderer& renderer, const CameraIntrinsics& k, const Rigid3d& world_from_a,
@@ -130,21 +155,38 @@ Trajectory Simulate(const fs::path& dir, const SimulateOptions& options, bool qu
   Progress progress("simulate", walk.frames, quiet);
   Trajectory stamped;
   std::vector<std::string> names(walk.frames);
+  // Each frame's colour moment: an even draw in [-offset, offset] from the depth's, from the
+  // seed and the frame alone.
+  std::vector<double> color_offset_s(walk.frames, 0.0);
+  std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> world_from_color(poses.world_from_camera.begin(),
+                                                                           poses.world_from_camera.end());
+  if (options.color_offset_ms > 0) {
+    std::mt19937_64 rng(options.seed * 7919ULL + 17);
+    std::uniform_real_distribution<double> draw(-options.color_offset_ms * 1e-3, options.color_offset_ms * 1e-3);
+    for (int i = 0; i < walk.frames; ++i) {
+      color_offset_s[i] = draw(rng);
+      world_from_color[i] = PoseAt(poses, poses.timestamps[i] + color_offset_s[i]);
+    }
+  }
   for (int i = 0; i < walk.frames; ++i) {
     const double t = 1.0 + poses.timestamps[i];  // TUM-like positive stamps
     names[i] = fmt::format("{:.6f}", t);
     stamped.Add(t, poses.world_from_camera[i]);
-    rgb_txt += fmt::format("{} rgb/{}.png\n", names[i], names[i]);
+    rgb_txt += fmt::format("{:.6f} rgb/{}.png\n", t + color_offset_s[i], names[i]);
     depth_txt += fmt::format("{} depth/{}.png\n", names[i], names[i]);
   }
   // Frames in parallel: PNG encoding is single-threaded and costs as much as rendering.
   // Each frame's noise depends only on its index, so the bytes do not depend on the order.
   tbb::parallel_for(0, walk.frames, [&](int i) {
+    const uint64_t noise_seed = options.seed * 1000003ULL + i;
     const RenderedView view =
-        renderer.Render(options.intrinsics, poses.world_from_camera[i], options.sensor, options.seed * 1000003ULL + i);
+        renderer.Render(options.intrinsics, poses.world_from_camera[i], options.sensor, noise_seed);
     cv::Mat depth16;
     view.depth.convertTo(depth16, CV_16U, 5000.0);
-    WritePngFile(dir / "rgb" / (names[i] + ".png"), view.color);
+    WritePngFile(dir / "rgb" / (names[i] + ".png"),
+                 color_offset_s[i] == 0
+                     ? view.color
+                     : renderer.Render(options.intrinsics, world_from_color[i], options.sensor, noise_seed).color);
     WritePngFile(dir / "depth" / (names[i] + ".png"), depth16);
     progress.Advance();
   });

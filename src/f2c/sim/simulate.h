@@ -23,6 +23,11 @@ struct SimulateOptions {
   SensorOptions sensor;
   WalkOptions walk;           // walk.frames = number of frames
   int correspondences = 400;  // about half nearby pairs, half loop closures
+  // Colour and depth taken at different moments, as by cameras whose two streams are not
+  // synchronised (TUM's Kinect): each frame's colour is rendered where the camera was a
+  // moment drawn evenly in [-color_offset_ms, color_offset_ms] from its depth's (the walk's
+  // poses interpolated), and rgb.txt lists it at that time. 0: one moment, as before.
+  double color_offset_ms = 0;
 
   template <class V>
   void Fields(V& v) {
@@ -31,6 +36,8 @@ struct SimulateOptions {
               "two-rooms, apartment (its living room a trapezoid, side walls 14 deg off square), apartment-square (the "
               "same at 6 deg), corridor, or object (a table of curved and cluttered objects, circled at 1-1.5 m)");
     F2C_FIELD(v, seed, "--seed", {}, "furniture, walk and noise");
+    F2C_FIELD(v, color_offset_ms, "--color-offset", Between(0, 100),
+              "colour taken up to this many ms before or after depth (unsynchronised streams; 0: one moment)");
     F2C_FIELD(v, correspondences, "--correspondences", Between(0, 1000000),
               "ground-truth correspondences to write (at most 1,000,000)");
     F2C_NESTED(v, walk);
