@@ -11,6 +11,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "f2c/io/image.h"
+#include "f2c/io/sequence.h"
 #include "f2c/io/trajectory.h"
 #include "f2c/testing/ros2_writer.h"
 #include "f2c/testing/synthetic_scene.h"
@@ -46,6 +48,51 @@ std::string T0(const std::string& input, const std::string& extra, const fs::pat
   const Result r = RunCli("register " + input + " -q --no-report --stop-after odometry -o " + out.string() + extra);
   EXPECT_EQ(r.code, 0) << r.output;
   return ReadFileToString(out / "trajectory.txt");
+}
+
+// 32FC1 depth as ROS's compressedDepth (a 16-bit PNG of inverse depth q = A / z + B, with A
+// and B in its header) reads back to the folder's depth within its quantisation (z^2 / A, plus
+// our 0.2 mm unit), with the folder's invalid pixels; a header of another format is refused.
+TEST(CliRosbag, CompressedDepthOf32FC1ReadsToItsQuantisation) {
+  const fs::path folder = SyntheticTum("cli_bag_cdepth_folder", 3);
+  const fs::path dir = testing::FreshTempDir("cli_bag_cdepth");
+  const fs::path bag = dir / "c.bag";
+  if (!WriteBag(folder, bag, "--compressed-depth")) GTEST_SKIP() << "python3-rosbag absent";
+  IoOptions io;
+  io.intrinsics = kIntrinsics;
+  const RgbdSequence from_folder = ReadSequence(folder, io), from_bag = ReadSequence(bag);
+  ASSERT_EQ(from_bag.frames.size(), from_folder.frames.size());
+  const double quant_a = 100.0 * 101.0;  // the transport's default (depth_quantization 100)
+  for (size_t k = 0; k < from_bag.frames.size(); ++k) {
+    const cv::Mat a = LoadDepthMeters(from_folder, from_folder.frames[k]);
+    const cv::Mat b = LoadDepthMeters(from_bag, from_bag.frames[k]);
+    ASSERT_EQ(a.size(), b.size());
+    int valid = 0, off = 0;
+    for (int y = 0; y < a.rows; ++y) {
+      for (int x = 0; x < a.cols; ++x) {
+        const float za = a.at<float>(y, x), zb = b.at<float>(y, x);
+        ASSERT_EQ(za > 0, zb > 0) << k << " " << x << "," << y;
+        if (za <= 0) continue;
+        ++valid;
+        off += std::abs(za - zb) > za * za / quant_a + 2e-4 + 1e-6;
+      }
+    }
+    EXPECT_GT(valid, 100000) << k;
+    EXPECT_EQ(off, 0) << k;
+  }
+  const Result info = RunCli("info " + bag.string());
+  EXPECT_NE(info.output.find("stream       depth: /camera/depth/image/compressedDepth (32FC1; compressedDepth, 3 "
+                             "images)"),
+            std::string::npos)
+      << info.output;
+  ASSERT_TRUE(WriteBag(folder, dir / "format1.bag", "--compressed-depth 1"));
+  const Result bad = RunCli("info " + (dir / "format1.bag").string());
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_EQ(bad.output,
+            fmt::format("error: {} (/camera/depth/image/compressedDepth at {:.6f} s): compressedDepth 32FC1 "
+                        "header: format 1, quantisation 10100 and -1009 (expected format 0, inverse depth, "
+                        "and finite constants)\n",
+                        (dir / "format1.bag").string(), from_bag.frames[0].timestamp));
 }
 
 TEST(CliRosbag, ATumLayoutBagGivesItsFoldersTrajectoryWhateverItsCompression) {

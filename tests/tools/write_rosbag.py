@@ -16,7 +16,9 @@ and tf/0 (identity: the folder's colour and depth share a camera). Exit 77 where
 or the ROS message modules are missing (the tests skip).
 """
 import argparse
+import io
 import os
+import struct
 import sys
 
 try:
@@ -88,6 +90,9 @@ def main():
     p.add_argument("--color-encoding", default="rgb8")
     p.add_argument("--color-camera", help="fx,fy,cx,cy,tx,ty,tz: the colour camera's info and its place in the "
                    "depth camera's frame (realsense: the colour stream's tf/0; tum: /tf_static)")
+    p.add_argument("--compressed-depth", nargs="?", const=0, type=int, help="depth (TUM layout) as 32FC1 "
+                   "compressedDepth: inverse depth quantised into a 16-bit PNG, as ROS's compressed_depth_image_transport "
+                   "writes it; the value is the header's format field (0, inverse depth; others for damaged bags)")
     p.add_argument("--compressed-color", action="store_true", help="colour as sensor_msgs/CompressedImage holding "
                    "the folder's own image files' bytes (JPEG or PNG), on <colour topic>/compressed")
     p.add_argument("--repeat", type=int, default=1, help="the frames this many times, one after another "
@@ -149,7 +154,22 @@ def main():
                 kc = tuple(float(v) for v in a.color_camera.split(",")[:4]) if a.color_camera else k
                 bag.write(color_info, camera_info(kc, w, h, stamp, color_frame), stamp)
                 infos_written = True
-            if kind == "d":
+            if kind == "d" and a.compressed_depth is not None:
+                # compressed_depth_image_transport's 32FC1: a header (format 0, inverse depth;
+                # float32 A, B) and a 16-bit PNG of q = A / z + B (0: no depth).
+                quant_a, quant_b = 100.0 * 101.0, 1.0 - 100.0 * 101.0 / 10.0
+                z = pixels.astype(np.float64) / 5000.0
+                q = np.where(z > 0, np.rint(quant_a / np.where(z > 0, z, 1.0) + quant_b), 0).astype(np.uint16)
+                png = io.BytesIO()
+                PILImage.fromarray(q).save(png, format="PNG")
+                msg = CompressedImage()
+                msg.header.seq = i
+                msg.header.stamp = stamp
+                msg.header.frame_id = depth_frame
+                msg.format = "32FC1; compressedDepth"
+                msg.data = struct.pack("<iff", a.compressed_depth, quant_a, quant_b) + png.getvalue()
+                bag.write(depth_topic + "/compressedDepth", msg, stamp)
+            elif kind == "d":
                 if tum:
                     metres = (pixels.astype(np.float64) / 5000.0).astype(np.float32)
                     msg = image(metres, "32FC1", stamp, depth_frame, i)

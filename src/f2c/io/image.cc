@@ -226,6 +226,24 @@ cv::Mat ReadFrameImage(const std::filesystem::path& path, const std::optional<Em
       }
       return depth;
     }
+    case F::kInverseDepthPng: {
+      // Metres = A / (q - B), then the sequence's uint16 unit, rounded; q = 0 is no depth, and
+      // so is depth that is not positive or beyond the unit's range.
+      if (!(e.float_unit > 0)) ThrowInputError(where, "inverse depth without its unit");
+      const cv::Mat q = DecodeImageBytes(bytes, where, cv::IMREAD_UNCHANGED);
+      if (q.type() != CV_16UC1) ThrowInputError(where, "compressedDepth image is not a 16-bit grey PNG");
+      cv::Mat depth(q.size(), CV_16UC1);
+      for (int y = 0; y < q.rows; ++y) {
+        const uint16_t* in = q.ptr<uint16_t>(y);
+        uint16_t* out = depth.ptr<uint16_t>(y);
+        for (int x = 0; x < q.cols; ++x) {
+          const double metres = in[x] == 0 ? 0.0 : e.quant_a / (static_cast<double>(in[x]) - e.quant_b);
+          const double units = std::round(metres / e.float_unit);
+          out[x] = std::isfinite(units) && units > 0 && units <= 65535 ? static_cast<uint16_t>(units) : 0;
+        }
+      }
+      return depth;
+    }
     case F::kZlibU16: {
       cv::Mat depth(e.height, e.width, CV_16UC1);
       const size_t want = static_cast<size_t>(e.width) * static_cast<size_t>(e.height) * 2;

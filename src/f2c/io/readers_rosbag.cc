@@ -92,12 +92,25 @@ ImageMessage ReadImageMessage(const Bag& bag, const MessageRef& ref, const std::
     e.size = n;
     // compressed_depth_image_transport: a 12-byte header (format, quantisation) before the PNG.
     if (m.encoding.find("compressedDepth") != std::string::npos) {
-      if (m.encoding.find("32FC1") != std::string::npos) {
-        ThrowInputError(where,
-                        "depth compressed as 32FC1 compressedDepth (inverse-depth quantised), which fine2coarse "
-                        "does not read");
+      if (m.encoding.find("rvl") != std::string::npos) {
+        ThrowInputError(where, "depth compressed as compressedDepth rvl, which fine2coarse does not read (png: yes)");
       }
       if (n < 12) ThrowInputError(where, "compressedDepth message without its 12-byte header");
+      // The header: int32 format (0: inverse depth), float32 quantisation constants A and B.
+      const int32_t format = r.Get<int32_t>();
+      const float quant_a = r.Get<float>(), quant_b = r.Get<float>();
+      if (m.encoding.find("32FC1") != std::string::npos) {
+        if (format != 0 || !std::isfinite(quant_a) || !std::isfinite(quant_b) || quant_a == 0) {
+          ThrowInputError(where,
+                          fmt::format("compressedDepth 32FC1 header: format {}, quantisation {} and {} (expected "
+                                      "format 0, inverse depth, and finite constants)",
+                                      format, quant_a, quant_b));
+        }
+        e.format = EmbeddedImage::Format::kInverseDepthPng;
+        e.quant_a = quant_a;
+        e.quant_b = quant_b;
+        e.float_unit = kFloatDepthUnit;
+      }
       e.offset += 12;
       e.size -= 12;
     }
@@ -278,6 +291,16 @@ std::optional<Rigid3d> ReadExtrinsic(const Bag& bag, const std::string& topic) {
 
 std::string Parent(const std::string& topic) { return topic.substr(0, topic.rfind('/')); }
 
+// An image topic's camera_info sibling: image_transport publishes a compressed image under the
+// raw topic's name ("/camera/depth/image/compressedDepth"), beside which there is none.
+std::string CameraInfoOf(const std::string& image_topic) {
+  std::string base = image_topic;
+  for (const char* transport : {"/compressedDepth", "/compressed"}) {
+    if (base.ends_with(transport)) base.resize(base.size() - std::string_view(transport).size());
+  }
+  return Parent(base) + "/camera_info";
+}
+
 // ROS 1 frame ids may carry a leading '/' (tf's old convention); tf2 drops it.
 std::string FrameName(std::string frame) {
   while (!frame.empty() && frame.front() == '/') frame.erase(0, 1);
@@ -369,9 +392,10 @@ RgbdSequence ReadRosbag(const fs::path& path, const IoOptions& options) {
     ThrowInputError(path, fmt::format("--depth-topic: {} holds {} images, not depth (16UC1, mono16, 32FC1)",
                                       depth_topic, depths.front().encoding));
   }
-  // Depth units: 32FC1 is metres; 16-bit depth is the recording's units (RealSense's Depth
-  // Units option), else --depth-scale, else millimetres (the ROS convention).
-  if (depths.front().image.format == EmbeddedImage::Format::kFloat32) {
+  // Depth units: 32FC1 is metres (raw or compressedDepth); 16-bit depth is the recording's units
+  // (RealSense's Depth Units option), else --depth-scale, else millimetres (the ROS convention).
+  if (depths.front().image.format == EmbeddedImage::Format::kFloat32 ||
+      depths.front().image.format == EmbeddedImage::Format::kInverseDepthPng) {
     seq.depth_scale = kFloatDepthUnit;
   } else if (options.depth_scale > 0) {
     seq.depth_scale = options.depth_scale;
@@ -398,8 +422,7 @@ RgbdSequence ReadRosbag(const fs::path& path, const IoOptions& options) {
   if (!info_topic.empty()) {
     RequireTopic(bag, info_topic, {kCameraInfo}, "--camera-info-topic");
   } else {
-    const std::string sibling =
-        is_realsense ? depth_stream + "/info/camera_info" : Parent(depth_topic) + "/camera_info";
+    const std::string sibling = is_realsense ? depth_stream + "/info/camera_info" : CameraInfoOf(depth_topic);
     if (TypeOf(bag, sibling) == kCameraInfo) info_topic = sibling;
   }
   if (!info_topic.empty()) {
@@ -411,13 +434,13 @@ RgbdSequence ReadRosbag(const fs::path& path, const IoOptions& options) {
                                       depth_topic, Join(TopicsOfType(bag, {kCameraInfo}))));
   }
   if (seq.intrinsics && d0.format != EmbeddedImage::Format::kEncoded &&
+      d0.format != EmbeddedImage::Format::kInverseDepthPng &&
       (seq.intrinsics->width != d0.width || seq.intrinsics->height != d0.height)) {
     ThrowInputError(path, fmt::format("depth ({}) is {}x{} but its camera info ({}) is for {}x{}", depth_topic,
                                       d0.width, d0.height, info_topic, seq.intrinsics->width, seq.intrinsics->height));
   }
   // The colour camera, where it is another one: its camera info, and for RealSense its place.
-  const std::string color_info =
-      is_realsense ? color_stream + "/info/camera_info" : Parent(color_topic) + "/camera_info";
+  const std::string color_info = is_realsense ? color_stream + "/info/camera_info" : CameraInfoOf(color_topic);
   if (TypeOf(bag, color_info) == kCameraInfo && color_info != info_topic && seq.intrinsics) {
     const CameraIntrinsics kc = ReadCameraInfo(bag, color_info).intrinsics;
     const CameraIntrinsics& kd = *seq.intrinsics;
@@ -444,7 +467,9 @@ RgbdSequence ReadRosbag(const fs::path& path, const IoOptions& options) {
       }
     }
   }
+  // (Sizes known from the messages: raw images; encoded ones are checked when decoded.)
   if (!seq.color_camera && c0.format != EmbeddedImage::Format::kEncoded &&
+      d0.format != EmbeddedImage::Format::kEncoded && d0.format != EmbeddedImage::Format::kInverseDepthPng &&
       (c0.width != d0.width || c0.height != d0.height)) {
     ThrowInputError(path, fmt::format("colour ({}) is {}x{} and depth ({}) {}x{}, and the colour has no camera info",
                                       color_topic, c0.width, c0.height, depth_topic, d0.width, d0.height));

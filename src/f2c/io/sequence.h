@@ -39,6 +39,9 @@ struct EmbeddedImage {
     kRawU16,   // width x height uint16 (little-endian unless big_endian)
     kZlibU16,  // the same, zlib-compressed
     kFloat32,  // width x height float metres (ROS 32FC1): quantised to float_unit per uint16
+    // ROS compressedDepth of 32FC1: a 16-bit PNG of inverse depth q, metres = quant_a /
+    // (q - quant_b) (0: none), quantised to float_unit per uint16
+    kInverseDepthPng,
   };
   enum class Compression { kNone, kBz2, kLz4, kZstd };
   struct Block {
@@ -49,10 +52,11 @@ struct EmbeddedImage {
   uint64_t offset = 0;
   uint64_t size = 0;
   Format format = Format::kEncoded;
-  int width = 0, height = 0;  // the raw formats'
-  uint64_t step = 0;          // bytes per row of the raw formats (0: rows packed)
-  bool big_endian = false;    // kRawU16 and kFloat32
-  double float_unit = 0;      // kFloat32: metres per unit of the uint16 depth it becomes
+  int width = 0, height = 0;        // the raw formats'
+  uint64_t step = 0;                // bytes per row of the raw formats (0: rows packed)
+  bool big_endian = false;          // kRawU16 and kFloat32
+  double float_unit = 0;            // kFloat32, kInverseDepthPng: metres per unit of the uint16 depth it becomes
+  double quant_a = 0, quant_b = 0;  // kInverseDepthPng: the quantisation's constants
   std::optional<Block> block;
   int64_t sqlite_row = -1;  // ROS 2 .db3: offset and size are in this row's message blob
 };
