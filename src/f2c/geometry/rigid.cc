@@ -25,6 +25,13 @@ void CheckPosition(const Eigen::Vector3d& t, const std::filesystem::path& path, 
 
 }  // namespace
 
+Rigid3d InterpolatePose(const Rigid3d& a, const Rigid3d& b, double u) {
+  Rigid3d pose = Rigid3d::Identity();
+  pose.linear() = Eigen::Quaterniond(a.linear()).slerp(u, Eigen::Quaterniond(b.linear())).toRotationMatrix();
+  pose.translation() = (1 - u) * a.translation() + u * b.translation();
+  return pose;
+}
+
 double RotationAngle(const Eigen::Matrix3d& rotation) {
   // atan2 of sin and cos keeps precision near 0 and pi, where acos(cos) loses half the digits.
   const Eigen::Vector3d v(rotation(2, 1) - rotation(1, 2), rotation(0, 2) - rotation(2, 0),

@@ -13,6 +13,10 @@ using Rigid3d = Eigen::Isometry3d;
 // Angle of a rotation (radians, in [0, pi]).
 double RotationAngle(const Eigen::Matrix3d& rotation);
 
+// The pose a fraction u of the way from a to b: translation linearly, rotation along the
+// shorter arc (slerp).
+Rigid3d InterpolatePose(const Rigid3d& a, const Rigid3d& b, double u);
+
 // The farthest a camera or a surface point may lie from the origin (metres). A building's
 // scan spans hundreds of metres; beyond 1e6 m a double keeps less than the 1e-10 m the
 // metrics' sums of squares need, and at 1e155 m they overflow to infinity: such a file is an

@@ -194,13 +194,8 @@ std::vector<Rigid3d, Eigen::aligned_allocator<Rigid3d>> PosesForFrames(const Tra
     } else if (has_before && has_after && t_after - t_before <= max_span) {
       // Between two poses (a motion-capture trajectory at its own rate): translation
       // linearly, rotation along the shortest arc.
-      const Rigid3d& a = trajectory.world_from_camera[*(after - 1)];
-      const Rigid3d& b = trajectory.world_from_camera[*after];
-      const double u = (t - t_before) / (t_after - t_before);
-      Rigid3d pose = Rigid3d::Identity();
-      pose.linear() = Eigen::Quaterniond(a.linear()).slerp(u, Eigen::Quaterniond(b.linear())).toRotationMatrix();
-      pose.translation() = (1 - u) * a.translation() + u * b.translation();
-      poses.push_back(pose);
+      poses.push_back(InterpolatePose(trajectory.world_from_camera[*(after - 1)], trajectory.world_from_camera[*after],
+                                      (t - t_before) / (t_after - t_before)));
     } else {
       ThrowInputError(path, fmt::format("no pose within {:g} ms of frame {} (time stamp {:.6f} s), nor two within {:g} "
                                         "s around it",

@@ -32,21 +32,15 @@ void SimulateOptions::Check() const {
 
 namespace {
 
-// The walk's pose at time t (seconds of the walk): its frames' poses interpolated (rotation
-// along the shorter arc, translation linearly), the first or last beyond them.
+// The walk's pose at time t (seconds of the walk): its frames' poses interpolated
+// (InterpolatePose), the first or last beyond them.
 Rigid3d PoseAt(const Trajectory& walk, double t) {
   const auto& times = walk.timestamps;
   if (t <= times.front()) return walk.world_from_camera.front();
   if (t >= times.back()) return walk.world_from_camera.back();
   const size_t b = std::upper_bound(times.begin(), times.end(), t) - times.begin();
   const size_t a = b - 1;
-  const double f = (t - times[a]) / (times[b] - times[a]);
-  const Rigid3d& pa = walk.world_from_camera[a];
-  const Rigid3d& pb = walk.world_from_camera[b];
-  Rigid3d pose = Rigid3d::Identity();
-  pose.linear() = Eigen::Quaterniond(pa.linear()).slerp(f, Eigen::Quaterniond(pb.linear())).toRotationMatrix();
-  pose.translation() = (1 - f) * pa.translation() + f * pb.translation();
-  return pose;
+  return InterpolatePose(walk.world_from_camera[a], walk.world_from_camera[b], (t - times[a]) / (times[b] - times[a]));
 }
 
 // A point of frame a's exact geometry at pixel (u, v) seen also by frame b, or false.
