@@ -36,7 +36,7 @@ void Features(std::string_view bytes) {
   uint64_t context = 0;
   const auto raw = f2c::fuzz::WriteInput("features.f2cf", bytes);
   f2c::fuzz::Expect([&] { f2c::ReadFeatureCache(raw, &context); });
-  const auto framed = f2c::fuzz::WriteInput("framed.f2cf", OneEntryFile("F2CFEAT\0", 3, bytes));
+  const auto framed = f2c::fuzz::WriteInput("framed.f2cf", OneEntryFile("F2CFEAT\0", 4, bytes));
   f2c::fuzz::Expect([&] { f2c::ReadFeatureCache(framed, &context); });
 }
 

@@ -2,15 +2,20 @@
 // Features and proxies of a whole sequence, extracted in parallel over frames, and their
 // on-disk cache: a compact, versioned binary file (the authors cache theirs as .fcb).
 //
-// Cache format (little-endian), version 2:
+// Cache format (little-endian), version 4:
 //   "F2CFEAT\0"  u32 version  u64 context hash  u32 frames
 //   per frame:   u64 frame key  u16 note length, note bytes
 //                u32 proxies,  per proxy:   normal 3f, offset f, centroid 3f,
 //                                           covariance 6f (xx xy xz yy yz zz), noise 6f
 //                                           (the same), extent 2f,
 //                                           rms f, inliers i32
-//                u32 features, per feature: type u8, position 3f, direction 3f, salience f,
-//                                           proxy i32, pixel 2f
+//                i8 position grid exponent, i8 pixel grid exponent (feature_codec.h)
+//                u32 runs,     per run:     type u8, features u32 (features come grouped by type)
+//                u32 features, per feature: position 3 i16, direction 2 i16 (octahedral),
+//                                           salience u16, proxy i16, pixel 2 i16
+//                u64 checksum of the entry (XXH3 of its key and body)
+// Features are rounded to this precision when extracted (feature_codec.h), so what the cache
+// gives back is what a run that computes them uses.
 // A frame's key hashes its depth file's bytes with the context (options, intrinsics, depth
 // decoding), so frames are reused one by one: other options or another frame selection
 // recompute exactly the frames they change.

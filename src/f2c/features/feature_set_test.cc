@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <fstream>
 
+#include "f2c/features/feature_codec.h"
 #include "f2c/testing/log_capture.h"
 #include "f2c/testing/synthetic_scene.h"
 #include "f2c/util/file.h"
@@ -69,6 +70,7 @@ TEST(FeatureCache, RoundTripsEveryField) {
     entries.push_back({entries.size() + 77, ExtractFrameFeatures(testing::Render({}, k, pose).depth, k, {})});
   }
   entries.push_back({5, ExtractFrameFeatures(cv::Mat::zeros(480, 640, CV_32F), k, {})});  // a note, nothing else
+  for (FeatureCacheEntry& e : entries) RoundToCachePrecision(&e.features);  // as the extraction hands them over
   ASSERT_GT(entries[0].features.features.size(), 100u);
   // Exact depth has no noise to estimate: give one proxy a noise covariance of its own.
   ASSERT_FALSE(entries[0].features.proxies.empty());
@@ -88,8 +90,9 @@ TEST(FeatureCache, RoundTripsEveryField) {
 TEST(FeatureCache, BadFilesAreClearErrors) {
   const fs::path dir = testing::FreshTempDir("feature_cache_bad");
   const CameraIntrinsics k = testing::TestIntrinsics();
-  WriteFeatureCache(dir / "good.f2cf", 1,
-                    {{1, ExtractFrameFeatures(testing::Render({}, k, Poses(1)[0]).depth, k, {})}});
+  FeatureCacheEntry entry{1, ExtractFrameFeatures(testing::Render({}, k, Poses(1)[0]).depth, k, {})};
+  RoundToCachePrecision(&entry.features);
+  WriteFeatureCache(dir / "good.f2cf", 1, {entry});
   const std::string bytes = ReadFileToString(dir / "good.f2cf");
   WriteFileAtomic(dir / "short.f2cf", bytes.substr(0, bytes.size() - 7));
   WriteFileAtomic(dir / "other.f2cf", "P6\n640 480\n255\n");
@@ -104,9 +107,60 @@ TEST(FeatureCache, BadFilesAreClearErrors) {
   EXPECT_EQ(message(dir / "short.f2cf"), (dir / "short.f2cf").string() + ": feature cache is truncated or corrupt");
   EXPECT_EQ(message(dir / "other.f2cf"), (dir / "other.f2cf").string() + ": not a fine2coarse feature cache");
   EXPECT_EQ(message(dir / "v9.f2cf"),
-            (dir / "v9.f2cf").string() + ": feature cache version 9 (this build reads version 3)");
+            (dir / "v9.f2cf").string() + ": feature cache version 9 (this build reads version 4)");
   EXPECT_EQ(message(dir / "flipped.f2cf"),
             (dir / "flipped.f2cf").string() + ": feature cache entry 0 fails its checksum");
+}
+
+template <typename T>
+void Put(std::string* out, const T& v) {
+  out->append(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+
+// A feature cache of one entry with no note and no proxies: its grid exponents, runs of
+// (type, count) and `features` packed features at the camera with no proxy, with a checksum
+// that matches.
+std::string OneEntryCache(int8_t position_exponent, int8_t pixel_exponent,
+                          const std::vector<std::pair<uint8_t, uint32_t>>& runs, uint32_t features) {
+  std::string entry;
+  Put(&entry, uint64_t{1});  // key
+  Put(&entry, uint16_t{0});  // note
+  Put(&entry, uint32_t{0});  // proxies
+  Put(&entry, position_exponent);
+  Put(&entry, pixel_exponent);
+  Put(&entry, static_cast<uint32_t>(runs.size()));
+  for (const auto& [type, count] : runs) {
+    Put(&entry, type);
+    Put(&entry, count);
+  }
+  Put(&entry, features);
+  for (uint32_t i = 0; i < features; ++i) {
+    entry.append(12, '\0');    // position, direction (+z), salience
+    Put(&entry, int16_t{-1});  // no proxy
+    entry.append(4, '\0');     // pixel
+  }
+  std::string file("F2CFEAT\0", 8);
+  Put(&file, uint32_t{4});
+  Put(&file, uint64_t{1});  // context
+  Put(&file, uint32_t{1});
+  file += entry;
+  Put(&file, HashBytes(entry));
+  return file;
+}
+
+TEST(FeatureCache, AnEntryWhoseChecksumMatchesButWhoseValuesCannotBeIsAnErrorNamingThem) {
+  const fs::path dir = testing::FreshTempDir("feature_cache_values");
+  auto message = [&](const std::string& bytes) {
+    WriteFileAtomic(dir / "f.f2cf", bytes);
+    uint64_t context = 0;
+    return testing::InputErrorMessage([&] { ReadFeatureCache(dir / "f.f2cf", &context); });
+  };
+  const std::string prefix = (dir / "f.f2cf").string() + ": ";
+  EXPECT_EQ(message(OneEntryCache(12, 3, {{0, 2}}, 2)), "no error");  // two planes at the camera: fine
+  EXPECT_EQ(message(OneEntryCache(12, 3, {{9, 1}}, 1)), prefix + "feature cache has an unknown feature type 9");
+  EXPECT_EQ(message(OneEntryCache(12, 3, {{0, 2}}, 1)), prefix + "feature cache lists 2 features by type but holds 1");
+  EXPECT_EQ(message(OneEntryCache(21, 3, {}, 0)),
+            prefix + "feature cache has a grid of 2^-21 m or 2^-3 pixels (at most 2^-20 and 2^-3)");
 }
 
 TEST(ExtractFeatures, ReusesTheCacheFrameByFrameAndRecomputesWhatChanged) {
