@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # BENCHMARKS.md's main tables in one command: every real sequence with ground truth in
-# ../shared/data and simulated multi-room walks, through T0, the refinement and its
+# ../shared/data, simulated multi-room walks and object scans, through T0, the refinement and its
 # ablations, with Open3D's reconstruction system run beside us as a peer where Debian's
 # python3-open3d and python3-joblib are installed (`bash scripts/setup.sh --peers`).
 #
@@ -152,8 +152,9 @@ for d in "$data"/*/; do
 done
 [ -d "$data" ] || echo "skipping the real sequences: $data is absent"
 
-# Simulated walks with exact ground truth and ground-truth correspondences.
-for scene in two-rooms apartment; do
+# Simulated scans with exact ground truth and ground-truth correspondences: walks through
+# rooms, and the object scene (a table of curved and cluttered objects circled at 1-1.5 m).
+for scene in two-rooms apartment object; do
   for seed in $seeds; do
     sim="$work/sim/$scene-$seed-$frames"
     [ -f "$sim/rgb.txt" ] || "$bin" simulate --scene "$scene" --frames "$frames" --seed "$seed" -o "$sim" -q > /dev/null
