@@ -103,7 +103,9 @@ TEST(CliRosbag, ATumLayoutBagGivesItsFoldersTrajectoryWhateverItsCompression) {
   ASSERT_FALSE(from_folder.empty());
   for (const char* compression : {"none", "bz2", "lz4"}) {
     const fs::path bag = dir / (std::string(compression) + ".bag");
-    if (!fs::exists(bag)) ASSERT_TRUE(WriteBag(folder, bag, std::string("--compression ") + compression));
+    if (!fs::exists(bag)) {
+      ASSERT_TRUE(WriteBag(folder, bag, std::string("--compression ") + compression));
+    }
     // Identical frames (32FC1 depth read back to the PNGs' values, the same stamps and
     // pairing): the same poses to the last digit.
     EXPECT_EQ(T0(bag.string(), "", dir / (std::string("out_") + compression)), from_folder) << compression;

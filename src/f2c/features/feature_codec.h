@@ -33,6 +33,7 @@ struct PackedFeature {
   int16_t pixel[2];
 };
 constexpr size_t kPackedFeatureBytes = 18;  // as written, without padding
+static_assert(sizeof(PackedFeature) == kPackedFeatureBytes);
 
 // The finest grids (at most 2^-20 m and 1/8 pixel) on which every feature's position and
 // pixel fit int16. Rounding the features to them gives the same grids again.
