@@ -392,6 +392,7 @@ void FeatureExtraction::ReadCache() {
   CheckCacheFile(path);
   std::error_code size_error;
   const uint64_t file_size = std::filesystem::exists(path) ? std::filesystem::file_size(path, size_error) : 0;
+  bool version_noted = false;
   auto open = [&](std::ifstream& in) -> bool {
     in.open(path, std::ios::binary);
     char magic[sizeof(kMagic)];
@@ -404,6 +405,12 @@ void FeatureExtraction::ReadCache() {
     in.read(reinterpret_cast<char*>(&version), 4);
     in.read(reinterpret_cast<char*>(&context), 8);
     in.read(reinterpret_cast<char*>(&count), 4);
+    if (in && version != kVersion && !version_noted) {
+      // A cache an older build wrote: expected after an upgrade, and said once.
+      spdlog::info("{}: feature cache version {} (this build reads version {}): recomputing", path.string(), version,
+                   kVersion);
+      version_noted = true;
+    }
     return in && version == kVersion && context == context_;
   };
   int damaged = 0;

@@ -231,12 +231,15 @@ TEST(ExtractFeatures, ADamagedCacheEntryIsRecomputedWithOneWarning) {
   const std::vector<FeatureCacheEntry> entries = ReadFeatureCache(run.cache_file, &context);
   ASSERT_EQ(entries.size(), 4u);
   // Entry 1 starts where a cache of entry 0 alone ends; its first feature's position follows
-  // its key, note, proxies (22 floats and a count each) and the feature's type byte.
+  // its key, note, proxies (22 floats and a count each), the two grid exponents, the runs of
+  // types (a byte and a count each) and the feature count.
   WriteFeatureCache(dir / "one.f2cf", context, {entries[0]});
   const size_t entry1 = ReadFileToString(dir / "one.f2cf").size();
-  ASSERT_FALSE(entries[1].features.features.empty());
-  const size_t position =
-      entry1 + 8 + 2 + entries[1].features.note.size() + 4 + entries[1].features.proxies.size() * (4 * 22 + 4) + 4 + 1;
+  const FrameFeatures& f1 = entries[1].features;
+  ASSERT_FALSE(f1.features.empty());
+  size_t runs = 1;
+  for (size_t i = 1; i < f1.features.size(); ++i) runs += f1.features[i].type != f1.features[i - 1].type;
+  const size_t position = entry1 + 8 + 2 + f1.note.size() + 4 + f1.proxies.size() * (4 * 22 + 4) + 2 + 4 + runs * 5 + 4;
   std::string flipped = good;
   flipped[position + 1] ^= 0x04;
   for (const std::string& damaged : {good.substr(0, good.size() - 1), flipped}) {
@@ -258,6 +261,27 @@ TEST(ExtractFeatures, ADamagedCacheEntryIsRecomputedWithOneWarning) {
 
 // A cache that is not a regular file is an error naming it, never read (a device could be
 // read for ever) nor replaced.
+TEST(ExtractFeatures, ACacheOfAnotherVersionIsRecomputedWithOneLineSayingSo) {
+  const fs::path dir = testing::FreshTempDir("feature_set_version");
+  const RgbdSequence seq = WriteSequence(dir / "scan", 2);
+  FeatureRun run;
+  run.quiet = true;
+  run.cache_file = dir / "features.f2cf";
+  ExtractFeatures(seq, FeatureOptions(), run);
+  std::string old = ReadFileToString(run.cache_file);
+  old[8] = 3;  // the version that held features as floats
+  WriteFileAtomic(run.cache_file, old);
+  testing::LogCapture log;
+  FeatureTimings t;
+  ExtractFeatures(seq, FeatureOptions(), run, &t);
+  EXPECT_EQ(t.frames_computed, 2);
+  EXPECT_EQ(log.Lines(),
+            std::vector<std::string>{run.cache_file.string() +
+                                     ": feature cache version 3 (this build reads version 4): recomputing"});
+  uint64_t context = 0;
+  EXPECT_EQ(ReadFeatureCache(run.cache_file, &context).size(), 2u);  // rewritten at version 4
+}
+
 TEST(ExtractFeatures, ACacheThatIsNotARegularFileIsAnError) {
   const fs::path dir = testing::FreshTempDir("feature_set_cache_kind");
   const RgbdSequence seq = WriteSequence(dir / "scan", 2);
