@@ -36,6 +36,14 @@ RgbdSequence WriteSequence(const fs::path& dir, int n) {
   return ReadSequence(dir, io);
 }
 
+// A run without a progress bar that caches its features in `cache`.
+FeatureRun QuietRun(const fs::path& cache) {
+  FeatureRun run;
+  run.quiet = true;
+  run.cache_file = cache;
+  return run;
+}
+
 void ExpectSameFeatures(const FrameFeatures& a, const FrameFeatures& b) {
   EXPECT_EQ(a.note, b.note);
   ASSERT_EQ(a.proxies.size(), b.proxies.size());
@@ -166,9 +174,7 @@ TEST(FeatureCache, AnEntryWhoseChecksumMatchesButWhoseValuesCannotBeIsAnErrorNam
 TEST(ExtractFeatures, ReusesTheCacheFrameByFrameAndRecomputesWhatChanged) {
   const fs::path dir = testing::FreshTempDir("feature_set_cache");
   const RgbdSequence seq = WriteSequence(dir / "scan", 4);
-  FeatureRun run;
-  run.quiet = true;
-  run.cache_file = dir / "cache" / "features.f2cf";
+  const FeatureRun run = QuietRun(dir / "cache" / "features.f2cf");
   FeatureTimings first, second, third;
   const FeatureSet a = ExtractFeatures(seq, FeatureOptions(), run, &first);
   EXPECT_EQ(first.frames_computed, 4);
@@ -198,9 +204,7 @@ TEST(ExtractFeatures, ReusesTheCacheFrameByFrameAndRecomputesWhatChanged) {
 TEST(ExtractFeatures, ACorruptCacheIsRecomputedAndAMissingIntrinsicIsAnError) {
   const fs::path dir = testing::FreshTempDir("feature_set_corrupt");
   const RgbdSequence seq = WriteSequence(dir / "scan", 2);
-  FeatureRun run;
-  run.quiet = true;
-  run.cache_file = dir / "features.f2cf";
+  const FeatureRun run = QuietRun(dir / "features.f2cf");
   WriteFileAtomic(run.cache_file, "F2CFEAT");
   FeatureTimings t;
   const FeatureSet set = ExtractFeatures(seq, FeatureOptions(), run, &t);
@@ -222,9 +226,7 @@ TEST(ExtractFeatures, ACorruptCacheIsRecomputedAndAMissingIntrinsicIsAnError) {
 TEST(ExtractFeatures, ADamagedCacheEntryIsRecomputedWithOneWarning) {
   const fs::path dir = testing::FreshTempDir("feature_set_damaged");
   const RgbdSequence seq = WriteSequence(dir / "scan", 4);
-  FeatureRun run;
-  run.quiet = true;
-  run.cache_file = dir / "features.f2cf";
+  const FeatureRun run = QuietRun(dir / "features.f2cf");
   const FeatureSet reference = ExtractFeatures(seq, FeatureOptions(), run);
   const std::string good = ReadFileToString(run.cache_file);
   uint64_t context = 0;
@@ -264,9 +266,7 @@ TEST(ExtractFeatures, ADamagedCacheEntryIsRecomputedWithOneWarning) {
 TEST(ExtractFeatures, ACacheOfAnotherVersionIsRecomputedWithOneLineSayingSo) {
   const fs::path dir = testing::FreshTempDir("feature_set_version");
   const RgbdSequence seq = WriteSequence(dir / "scan", 2);
-  FeatureRun run;
-  run.quiet = true;
-  run.cache_file = dir / "features.f2cf";
+  const FeatureRun run = QuietRun(dir / "features.f2cf");
   ExtractFeatures(seq, FeatureOptions(), run);
   std::string old = ReadFileToString(run.cache_file);
   old[8] = 3;  // the version that held features as floats
@@ -285,9 +285,7 @@ TEST(ExtractFeatures, ACacheOfAnotherVersionIsRecomputedWithOneLineSayingSo) {
 TEST(ExtractFeatures, ACacheThatIsNotARegularFileIsAnError) {
   const fs::path dir = testing::FreshTempDir("feature_set_cache_kind");
   const RgbdSequence seq = WriteSequence(dir / "scan", 2);
-  FeatureRun run;
-  run.quiet = true;
-  run.cache_file = dir / "folder.f2cf";
+  FeatureRun run = QuietRun(dir / "folder.f2cf");
   fs::create_directories(run.cache_file);
   EXPECT_EQ(testing::InputErrorMessage([&] { ExtractFeatures(seq, FeatureOptions(), run); }),
             run.cache_file.string() + ": cache is a folder, not a file");
