@@ -89,7 +89,11 @@ TEST(FeatureCodec, OctahedralCodesReproduceTheirDirectionsOnBothHalvesAndTheFold
                                                    {0.6f, 0.8f, 0},
                                                    {-0.6f, 0.8f, 1e-7f},
                                                    {0.3f, -0.2f, -1e-6f},
-                                                   {0.5f, 0.5f, -0.70710677f}};
+                                                   {0.5f, 0.5f, -0.70710677f},
+                                                   // The lower half's seam (x = 0): codes +u
+                                                   // and -u decode to +0 and -0 alike.
+                                                   {-1e-9f, 0.389f, -0.921f},
+                                                   {1e-9f, -0.389f, -0.921f}};
   for (const Eigen::Vector3f& raw : directions) {
     int16_t x, y;
     EncodeOctahedral(raw.normalized(), &x, &y);

@@ -192,7 +192,7 @@ FrameFeatures GetFrame(Reader& r, const std::filesystem::path& path) {
         ThrowInputError(path, fmt::format("feature cache refers to proxy {} of {}", p.proxy, proxies));
       }
       if (p.salience > 32768) {
-        ThrowInputError(path, fmt::format("feature cache has a salience of {} (at most 1)", p.salience / 32768.0));
+        ThrowInputError(path, fmt::format("feature cache has a salience of {:.6f} (at most 1)", p.salience / 32768.0));
       }
       f.features.push_back(Unpack(p, static_cast<FeatureType>(type), grids));
     }

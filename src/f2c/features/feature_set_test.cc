@@ -129,7 +129,8 @@ void Put(std::string* out, const T& v) {
 // (type, count) and `features` packed features at the camera with no proxy, with a checksum
 // that matches.
 std::string OneEntryCache(int8_t position_exponent, int8_t pixel_exponent,
-                          const std::vector<std::pair<uint8_t, uint32_t>>& runs, uint32_t features) {
+                          const std::vector<std::pair<uint8_t, uint32_t>>& runs, uint32_t features,
+                          uint16_t salience = 0) {
   std::string entry;
   Put(&entry, uint64_t{1});  // key
   Put(&entry, uint16_t{0});  // note
@@ -143,7 +144,8 @@ std::string OneEntryCache(int8_t position_exponent, int8_t pixel_exponent,
   }
   Put(&entry, features);
   for (uint32_t i = 0; i < features; ++i) {
-    entry.append(12, '\0');    // position, direction (+z), salience
+    entry.append(10, '\0');  // position, direction (+z)
+    Put(&entry, salience);
     Put(&entry, int16_t{-1});  // no proxy
     entry.append(4, '\0');     // pixel
   }
@@ -167,6 +169,8 @@ TEST(FeatureCache, AnEntryWhoseChecksumMatchesButWhoseValuesCannotBeIsAnErrorNam
   EXPECT_EQ(message(OneEntryCache(12, 3, {{0, 2}}, 2)), "no error");  // two planes at the camera: fine
   EXPECT_EQ(message(OneEntryCache(12, 3, {{9, 1}}, 1)), prefix + "feature cache has an unknown feature type 9");
   EXPECT_EQ(message(OneEntryCache(12, 3, {{0, 2}}, 1)), prefix + "feature cache lists 2 features by type but holds 1");
+  EXPECT_EQ(message(OneEntryCache(12, 3, {{0, 1}}, 1, 32769)),
+            prefix + "feature cache has a salience of 1.000031 (at most 1)");
   EXPECT_EQ(message(OneEntryCache(21, 3, {}, 0)),
             prefix + "feature cache has a grid of 2^-21 m or 2^-3 pixels (at most 2^-20 and 2^-3)");
 }
