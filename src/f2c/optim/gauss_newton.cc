@@ -1,6 +1,5 @@
 #include "f2c/optim/gauss_newton.h"
 
-#include <cholmod.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
@@ -65,220 +64,6 @@ Corrector Correct(const ceres::LossFunction* loss, double sq_norm) {
   }
   return c;
 }
-
-// A CHOLMOD view of a symmetric matrix's upper triangle in compressed columns (int indices;
-// values null for a pattern), over arrays the caller keeps.
-cholmod_sparse UpperView(int n, std::vector<int>* p, std::vector<int>* i, std::vector<double>* x) {
-  cholmod_sparse a{};
-  a.nrow = a.ncol = n;
-  a.nzmax = i->size();
-  a.p = p->data();
-  a.i = i->data();
-  a.x = x != nullptr ? x->data() : nullptr;
-  a.stype = 1;
-  a.itype = CHOLMOD_INT;
-  a.xtype = x != nullptr ? CHOLMOD_REAL : CHOLMOD_PATTERN;
-  a.dtype = CHOLMOD_DOUBLE;
-  a.sorted = 1;
-  a.packed = 1;
-  return a;
-}
-
-// The normal equations' pattern: the upper triangle of the variables' blocks (diagonal blocks
-// stored whole; CHOLMOD reads only their upper part), as compressed columns.
-class Pattern {
- public:
-  // `free_vars`: each residual block's free variables.
-  Pattern(const std::vector<std::vector<int>>& free_vars, const std::vector<int>& start,
-          const std::vector<int>& tangent)
-      : start_(start), tangent_(tangent) {
-    const int nv = static_cast<int>(start.size());
-    rows_.resize(nv);
-    for (const std::vector<int>& vars : free_vars) {
-      for (size_t i = 0; i < vars.size(); ++i) {
-        for (size_t j = i; j < vars.size(); ++j) {
-          const int a = std::min(vars[i], vars[j]), b = std::max(vars[i], vars[j]);
-          rows_[b].push_back(a);
-        }
-      }
-    }
-    offsets_.resize(nv);
-    column_pointers_.push_back(0);
-    for (int b = 0; b < nv; ++b) {
-      if (start[b] < 0) continue;
-      std::vector<int>& r = rows_[b];
-      std::sort(r.begin(), r.end());
-      r.erase(std::unique(r.begin(), r.end()), r.end());
-      int length = 0;
-      for (int a : r) {
-        offsets_[b].push_back(length);
-        length += tangent[a];
-      }
-      for (int q = 0; q < tangent[b]; ++q) {
-        for (int a : r) {
-          for (int p = 0; p < tangent[a]; ++p) row_indices_.push_back(start[a] + p);
-        }
-        column_pointers_.push_back(static_cast<int>(row_indices_.size()));
-      }
-    }
-    values_.assign(row_indices_.size(), 0.0);
-  }
-
-  void Clear() { std::fill(values_.begin(), values_.end(), 0.0); }
-
-  // Where block (a, b), a <= b, starts in each of b's scalar columns.
-  int Offset(int a, int b) const {
-    const std::vector<int>& r = rows_[b];
-    const int k = static_cast<int>(std::lower_bound(r.begin(), r.end(), a) - r.begin());
-    return offsets_[b][k];
-  }
-  // Adds `block` (tangent[a] x tangent[b], column-major) at variables (a, b), a <= b, whose
-  // place in b's columns is `offset` (from Offset). Touches b's columns only.
-  void Add(int a, int b, int offset, const double* block) {
-    for (int q = 0; q < tangent_[b]; ++q) {
-      double* column = values_.data() + column_pointers_[start_[b] + q] + offset;
-      for (int p = 0; p < tangent_[a]; ++p) column[p] += block[q * tangent_[a] + p];
-    }
-  }
-
-  // H's diagonal, and setting it (each column's entry on its own row).
-  Eigen::VectorXd Diagonal() const {
-    Eigen::VectorXd d(static_cast<int>(column_pointers_.size()) - 1);
-    for (int c = 0; c < d.size(); ++c) d[c] = values_[DiagonalIndex(c)];
-    return d;
-  }
-  void SetDiagonal(const Eigen::VectorXd& d) {
-    for (int c = 0; c < d.size(); ++c) values_[DiagonalIndex(c)] = d[c];
-  }
-
-  // y = H x, H symmetric from its upper triangle.
-  Eigen::VectorXd Multiply(const Eigen::VectorXd& x) const {
-    Eigen::VectorXd y = Eigen::VectorXd::Zero(x.size());
-    for (int c = 0; c + 1 < static_cast<int>(column_pointers_.size()); ++c) {
-      for (int k = column_pointers_[c]; k < column_pointers_[c + 1]; ++k) {
-        const int r = row_indices_[k];
-        if (r > c) continue;  // the lower part of a diagonal block
-        y[r] += values_[k] * x[c];
-        if (r < c) y[c] += values_[k] * x[r];
-      }
-    }
-    return y;
-  }
-
-  // A fill-reducing ordering of the scalar columns, found on the blocks' graph (a ninth of
-  // the scalar one's entries, so the ordering costs a fraction of what it does on the
-  // scalars) by CHOLMOD's AMD or nested dissection, each block's columns kept together.
-  // Empty if CHOLMOD fails.
-  std::vector<int> BlockOrdering(GaussNewtonOptions::Ordering ordering, cholmod_common* common) const {
-    std::vector<int> node_of(start_.size(), -1), variable_of;
-    for (size_t v = 0; v < start_.size(); ++v) {
-      if (start_[v] < 0) continue;
-      node_of[v] = static_cast<int>(variable_of.size());
-      variable_of.push_back(static_cast<int>(v));
-    }
-    std::vector<int> p{0}, i;
-    for (int v : variable_of) {
-      for (int a : rows_[v]) i.push_back(node_of[a]);
-      p.push_back(static_cast<int>(i.size()));
-    }
-    const int n = static_cast<int>(variable_of.size());
-    cholmod_sparse graph = UpperView(n, &p, &i, nullptr);
-    std::vector<int> perm(n), parent(n), member(n);
-    if (ordering == GaussNewtonOptions::Ordering::kAmd) {
-      if (!cholmod_amd(&graph, nullptr, 0, perm.data(), common)) return {};
-    } else if (cholmod_nested_dissection(&graph, nullptr, 0, perm.data(), parent.data(), member.data(), common) < 0) {
-      return {};
-    }
-    std::vector<int> scalar;
-    for (int node : perm) {
-      const int v = variable_of[node];
-      for (int q = 0; q < tangent_[v]; ++q) scalar.push_back(start_[v] + q);
-    }
-    return scalar;
-  }
-
-  std::vector<int>& column_pointers() { return column_pointers_; }
-  std::vector<int>& row_indices() { return row_indices_; }
-  std::vector<double>& values() { return values_; }
-
- private:
-  // Rows within a column ascend (block rows in order, each block's rows in order).
-  size_t DiagonalIndex(int c) const {
-    const auto first = row_indices_.begin() + column_pointers_[c],
-               last = row_indices_.begin() + column_pointers_[c + 1];
-    return static_cast<size_t>(std::lower_bound(first, last, c) - row_indices_.begin());
-  }
-
-  const std::vector<int>& start_;
-  const std::vector<int>& tangent_;
-  std::vector<std::vector<int>> rows_;     // per block column: its block rows, sorted
-  std::vector<std::vector<int>> offsets_;  // per block column: each block row's first scalar row
-  std::vector<int> column_pointers_, row_indices_;
-  std::vector<double> values_;
-};
-
-// H x = b by CHOLMOD's Cholesky (H from its upper triangle). The symbolic analysis (the fill-
-// reducing ordering and the factor's structure) is done once, by Analyze or else at the first
-// solve: the steps of one Solve share their Pattern.
-class Cholesky {
- public:
-  explicit Cholesky(GaussNewtonOptions::Ordering ordering) : ordering_(ordering) {
-    cholmod_start(&common_);
-    common_.print = 0;
-    common_.nmethods = 1;  // only the ordering asked for, not CHOLMOD's trial of several
-    common_.method[0].ordering = CHOLMOD_AMD;
-  }
-  ~Cholesky() {
-    if (factor_ != nullptr) cholmod_free_factor(&factor_, &common_);
-    cholmod_finish(&common_);
-  }
-  Cholesky(const Cholesky&) = delete;
-  Cholesky& operator=(const Cholesky&) = delete;
-
-  // The symbolic analysis of H's pattern (n columns); reads the pattern only, so it may run
-  // while H's values are being computed.
-  void Analyze(Pattern* h, int n) {
-    if (factor_ != nullptr) return;
-    cholmod_sparse a = UpperView(n, &h->column_pointers(), &h->row_indices(), nullptr);
-    std::vector<int> perm = h->BlockOrdering(ordering_, &common_);
-    if (static_cast<int>(perm.size()) == n) {
-      common_.method[0].ordering = CHOLMOD_GIVEN;
-      factor_ = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &common_);
-    }
-    if (factor_ == nullptr) {  // CHOLMOD's own AMD on the scalars
-      common_.method[0].ordering = CHOLMOD_AMD;
-      factor_ = cholmod_analyze(&a, &common_);
-    }
-  }
-
-  bool supernodal() const { return factor_ != nullptr && factor_->is_super; }
-
-  // False if H is not positive definite (or CHOLMOD fails otherwise).
-  bool Solve(Pattern* h, const Eigen::VectorXd& b, Eigen::VectorXd* x) {
-    const int n = static_cast<int>(b.size());
-    Analyze(h, n);
-    cholmod_sparse a = UpperView(n, &h->column_pointers(), &h->row_indices(), &h->values());
-    if (factor_ == nullptr || !cholmod_factorize(&a, factor_, &common_) || common_.status != CHOLMOD_OK) return false;
-    cholmod_dense rhs{};
-    rhs.nrow = n;
-    rhs.ncol = 1;
-    rhs.nzmax = n;
-    rhs.d = n;
-    rhs.x = const_cast<double*>(b.data());
-    rhs.xtype = CHOLMOD_REAL;
-    rhs.dtype = CHOLMOD_DOUBLE;
-    cholmod_dense* solution = cholmod_solve(CHOLMOD_A, factor_, &rhs, &common_);
-    if (solution == nullptr) return false;
-    *x = Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(solution->x), n);
-    cholmod_free_dense(&solution, &common_);
-    return x->allFinite();
-  }
-
- private:
-  GaussNewtonOptions::Ordering ordering_;
-  cholmod_common common_;
-  cholmod_factor* factor_ = nullptr;
-};
 
 constexpr int kMaxBlocks = 16;  // parameter blocks per residual block
 
@@ -349,6 +134,26 @@ bool Linearise(const GaussNewtonResidual& res, const std::vector<int>& vars, con
     }
   }
   return true;
+}
+
+// Per variable of the problem, its coarse basis and its smoother group (optim/coarse_pcg.h).
+std::vector<std::vector<CoarseBasis>> CoarseOf(const CoarseSpace& space,
+                                               const std::unordered_map<const double*, int>& index, int nv) {
+  std::vector<std::vector<CoarseBasis>> basis(nv);
+  for (const auto& [x, list] : space.basis) {
+    const auto it = index.find(x);
+    if (it != index.end()) basis[it->second] = list;
+  }
+  return basis;
+}
+
+std::vector<int> GroupsOf(const CoarseSpace& space, const std::unordered_map<const double*, int>& index, int nv) {
+  std::vector<int> group(nv, -1);
+  for (const auto& [x, g] : space.group) {
+    const auto it = index.find(x);
+    if (it != index.end()) group[it->second] = g;
+  }
+  return group;
 }
 
 }  // namespace
@@ -425,7 +230,7 @@ GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidu
     int row;      // the block's variable a (H's block (a, b)); -1 for a gradient
     int offset;   // where block (a, b) starts in b's columns
   };
-  std::optional<Pattern> pattern;  // the same for every step
+  std::optional<BlockSymmetricMatrix> pattern;  // the same for every step
   std::vector<std::vector<Into>> into(nv);
   // The pattern, the lists and the symbolic analysis need no values: serial, they are built
   // beside the first linearisation.
@@ -449,7 +254,25 @@ GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidu
   };
   std::vector<double> linear(slot.back());
   std::vector<RowMatrix> plus_jacobians(nv);
-  Cholesky cholesky(options.ordering);
+  SparseCholesky cholesky(options.ordering);
+  std::optional<TwoLevelPcg> pcg;
+  if (options.coarse != nullptr)
+    pcg.emplace(CoarseOf(*options.coarse, index_, nv), options.coarse->block_sizes,
+                GroupsOf(*options.coarse, index_, nv));
+  // H step = b: by conjugate gradients where a coarse space is given and they converge far
+  // enough for the step test to judge the step, else by Cholesky.
+  auto solve = [&](BlockSymmetricMatrix* h, const Eigen::VectorXd& b, Eigen::VectorXd* step) {
+    if (pcg && pcg->Setup(*h)) {
+      const TwoLevelPcgSummary s = pcg->Solve(*h, b, options.pcg, step);
+      summary.linear_iterations += s.iterations;
+      summary.relative_residual = std::max(summary.relative_residual, s.relative_residual);
+      if (s.relative_residual <= options.pcg_accept) return true;
+    }
+    ++summary.factorizations;
+    const bool solved = cholesky.Solve(h, b, step);
+    summary.supernodal = cholesky.supernodal();
+    return solved;
+  };
   for (int it = 0; it < options.max_iterations; ++it) {
     for (int v = 0; v < nv; ++v) {
       const Variable& var = variables_[v];
@@ -461,7 +284,7 @@ GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidu
     if (it == 0) {
       analysis.run([&] {
         structure();
-        cholesky.Analyze(&*pattern, columns);
+        if (!pcg) cholesky.Analyze(&*pattern);
       });
     }
     std::vector<char> good(residuals.size(), 1);
@@ -477,7 +300,7 @@ GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidu
       summary.termination = "the residuals or Jacobians are not finite";
       return summary;
     }
-    Pattern& h = *pattern;
+    BlockSymmetricMatrix& h = *pattern;
     h.Clear();
     Eigen::VectorXd g = Eigen::VectorXd::Zero(columns);
     tbb::parallel_for(tbb::blocked_range<int>(0, nv), [&](const tbb::blocked_range<int>& range) {
@@ -493,8 +316,7 @@ GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidu
     });
     ++summary.iterations;
     Eigen::VectorXd step;
-    const bool solved = cholesky.Solve(&h, -g, &step);
-    summary.supernodal = cholesky.supernodal();
+    const bool solved = solve(&h, -g, &step);
     if (!solved) {
       summary.factorized = false;
       summary.termination = "the normal equations are not positive definite";
@@ -539,7 +361,7 @@ GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidu
       double lambda = options.initial_damping;
       for (int k = 0; k < options.max_damped_steps && !kept; ++k, lambda *= options.damping_increase) {
         h.SetDiagonal(diagonal + lambda * scaling);
-        const bool damped_solved = cholesky.Solve(&h, -g, &step);
+        const bool damped_solved = solve(&h, -g, &step);
         h.SetDiagonal(diagonal);
         ++summary.damped;
         if (!damped_solved) break;

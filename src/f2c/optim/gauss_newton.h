@@ -18,7 +18,9 @@
 // each into its own slot, and each variable's columns of J^T J and J^T r are summed in parallel
 // (the columns are disjoint), every entry over its blocks in their order, so the result does not
 // depend on the number of threads. The pattern and the symbolic analysis, which need no values, are
-// built beside the first linearisation.
+// built beside the first linearisation. Given a coarse space (GaussNewtonOptions::coarse), the
+// step is solved by preconditioned conjugate gradients instead (optim/coarse_pcg.h), for
+// systems whose Cholesky factor fills in.
 
 #include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
@@ -28,12 +30,24 @@
 #include <unordered_map>
 #include <vector>
 
+#include "f2c/optim/block_matrix.h"
+#include "f2c/optim/coarse_pcg.h"
+
 namespace f2c {
 
 struct GaussNewtonResidual {
   const ceres::CostFunction* cost = nullptr;
   const ceres::LossFunction* loss = nullptr;  // null: least squares
   std::vector<double*> blocks;
+};
+
+// A coarse space for the step by conjugate gradients (optim/coarse_pcg.h), keyed by the
+// variables' addresses: each covered variable's step as combinations of the coarse blocks', and
+// its smoother group. Free variables it does not name are coarse blocks of their own.
+struct CoarseSpace {
+  std::vector<int> block_sizes;
+  std::unordered_map<const double*, std::vector<CoarseBasis>> basis;
+  std::unordered_map<const double*, int> group;
 };
 
 struct GaussNewtonOptions {
@@ -58,8 +72,13 @@ struct GaussNewtonOptions {
   // the blocks, each block's columns kept together. Measured, analysis and factorization together:
   // the same at 900 frames, and nested dissection 2% ahead at 2,001 (less fill from the loops for a
   // longer analysis); for the planes-only presolve, whose system is nearly block-diagonal, AMD.
-  enum class Ordering { kAmd, kNestedDissection };
+  using Ordering = FillOrdering;
   Ordering ordering = Ordering::kNestedDissection;
+  // Where set, the step by conjugate gradients preconditioned with this coarse space instead
+  // of Cholesky; a solve that ends above pcg_accept (relative residual) is redone by Cholesky.
+  const CoarseSpace* coarse = nullptr;
+  TwoLevelPcgOptions pcg;
+  double pcg_accept = 1e-3;
 };
 
 struct GaussNewtonSummary {
@@ -73,6 +92,9 @@ struct GaussNewtonSummary {
   bool factorized = true;
   // Whether CHOLMOD chose a supernodal factor (dense blocks, BLAS) over a simplicial one.
   bool supernodal = false;
+  int factorizations = 0;        // Cholesky factorizations
+  int linear_iterations = 0;     // conjugate gradients' steps, over every solve
+  double relative_residual = 0;  // the largest |H step + g| / |g| the conjugate gradients left
   std::string termination;
 };
 

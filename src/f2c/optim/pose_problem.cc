@@ -4,6 +4,8 @@
 
 #include <limits>
 
+#include "f2c/util/error.h"
+
 namespace f2c {
 namespace {
 
@@ -17,6 +19,7 @@ std::unique_ptr<ceres::LossFunction> MakeLoss(RobustLoss loss, double scale, dou
 }  // namespace
 
 void PoseProblem::AddPose(Pose* pose) {
+  poses_.push_back(pose);
   AddVariable(pose->rotation_data(), 4, &quaternion_, false);
   AddVariable(pose->translation_data(), 3, nullptr, false);
 }
@@ -98,6 +101,47 @@ GaussNewtonSummary PoseProblem::SolveGaussNewton(bool planes_only, const GaussNe
     residuals.push_back(r);
   }
   return problem.Solve(residuals, options);
+}
+
+// A control's rigid motion (omega, v): the rotation omega (world axes, about the control's
+// position c) and the translation v. A pose (R, t) that moves with it turns R <- Exp(omega) R,
+// whose step on EigenQuaternionManifold (q <- [cos|d|, sin|d| d/|d|] q) is d = omega / 2, and
+// t <- t + v + omega x (t - c).
+CoarseSpace PoseProblem::PoseCoarseSpace(int spacing) const {
+  F2C_CHECK(spacing >= 1, "a control every spacing >= 1 poses");
+  CoarseSpace space;
+  const int n = static_cast<int>(poses_.size());
+  if (n < 2) return space;
+  std::vector<int> controls;
+  for (int i = 0; i < n; i += spacing) controls.push_back(i);
+  if (controls.back() != n - 1) controls.push_back(n - 1);
+  space.block_sizes.assign(controls.size(), 6);
+  const int segments = static_cast<int>(controls.size()) - 1;
+  for (int i = 0; i < n; ++i) {
+    const int k = std::min(i / spacing, segments - 1);
+    const double t = static_cast<double>(i - controls[k]) / (controls[k + 1] - controls[k]);
+    Pose* pose = poses_[i];
+    std::vector<CoarseBasis>& rotation = space.basis[pose->rotation_data()];
+    std::vector<CoarseBasis>& translation = space.basis[pose->translation_data()];
+    for (int end = 0; end < 2; ++end) {
+      const double w = end == 0 ? 1 - t : t;
+      if (w <= 0) continue;
+      const int control = k + end;
+      Eigen::MatrixXd r = Eigen::MatrixXd::Zero(3, 6);
+      r.leftCols<3>() = 0.5 * w * Eigen::Matrix3d::Identity();
+      rotation.push_back({control, r});
+      const Eigen::Vector3d arm = pose->translation - poses_[controls[control]]->translation;
+      Eigen::MatrixXd m(3, 6);
+      m.leftCols<3>() << 0, arm.z(), -arm.y(), -arm.z(), 0, arm.x(), arm.y(), -arm.x(),
+          0;  // omega x arm = -[arm]x omega
+      m.leftCols<3>() *= w;
+      m.rightCols<3>() = w * Eigen::Matrix3d::Identity();
+      translation.push_back({control, m});
+    }
+    space.group[pose->rotation_data()] = k;
+    space.group[pose->translation_data()] = k;
+  }
+  return space;
 }
 
 ceres::Solver::Summary PoseProblem::SolveCeres(bool planes_only, const ceres::Solver::Options& options) const {

@@ -76,6 +76,13 @@ class PoseProblem {
   // Our Gauss-Newton steps: every residual block, or the structural model alone with the
   // poses held (planes_only).
   GaussNewtonSummary SolveGaussNewton(bool planes_only, const GaussNewtonOptions& options) const;
+  // The coarse space of the poses for the step by conjugate gradients (optim/coarse_pcg.h):
+  // control frames every `spacing` poses (and the last), each a rigid motion (a rotation about
+  // the control's position and a translation, both in world axes); a pose's step blends its
+  // two controls' motions linearly by its place between them. Each stretch of poses from one
+  // control to the next is a smoother group. Planes are coarse blocks of their own.
+  CoarseSpace PoseCoarseSpace(int spacing) const;
+  int pose_count() const { return static_cast<int>(poses_.size()); }
   // Ceres on the same blocks.
   ceres::Solver::Summary SolveCeres(bool planes_only, const ceres::Solver::Options& options) const;
 
@@ -94,6 +101,7 @@ class PoseProblem {
   ceres::EigenQuaternionManifold quaternion_;
   PlaneManifold plane_manifold_;
   std::vector<Variable> variables_;
+  std::vector<Pose*> poses_;  // in the order added
   std::unordered_map<const double*, int> index_;
   std::map<std::pair<Term, double>, std::unique_ptr<ceres::LossFunction>> losses_;
   std::vector<std::unique_ptr<ceres::CostFunction>> costs_;

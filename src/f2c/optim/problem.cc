@@ -64,7 +64,14 @@ void SolveJoint(const PoseProblem& problem, const SolverOptions& options, SolveS
   if (OwnStep(options)) {
     GaussNewtonOptions step;
     step.function_tolerance = options.function_tolerance;
+    CoarseSpace coarse;
+    if (options.pcg_min_poses > 0 && problem.pose_count() >= options.pcg_min_poses) {
+      coarse = problem.PoseCoarseSpace(options.pcg_spacing);
+      step.coarse = &coarse;
+    }
     const GaussNewtonSummary s = problem.SolveGaussNewton(false, step);
+    summary->linear_iterations += s.linear_iterations;
+    summary->factorizations += s.factorizations;
     summary->iterations = s.iterations;
     summary->damped_steps += s.damped;
     summary->termination = s.termination;
@@ -155,6 +162,7 @@ nlohmann::json ToJson(const SolveSummary& s) {
           {"residual_blocks", ByTermName(s.residual_blocks)},
           {"iterations", s.iterations},
           {"linear_iterations", s.linear_iterations},
+          {"factorizations", s.factorizations},
           {"plane_presolve_iterations", s.plane_presolve_iterations},
           {"damped_steps", s.damped_steps},
           {"termination", s.termination},

@@ -125,6 +125,13 @@ struct SolverOptions {
   // factor fills in as loops tie distant frames together).
   LinearSolver linear_solver = LinearSolver::kDirect;
   int max_linear_iterations = 100;
+  // kDirect's joint step on scans of at least this many frames (0: never) by conjugate
+  // gradients instead of Cholesky, preconditioned by a coarse solve with a control frame every
+  // pcg_spacing frames (optim/coarse_pcg.h, PoseProblem::PoseCoarseSpace): the same step to a
+  // relative residual of 1e-8, at a cost that grows with the constraints rather than with the
+  // factor's fill-in.
+  int pcg_min_poses = 3000;
+  int pcg_spacing = 8;
   // Ceres' threads; 0: as many as the thread pool allows (register --threads). The one-step
   // solve gave byte-identical poses for 1 and 2 threads (tested).
   int threads = 0;
@@ -168,6 +175,10 @@ struct SolverOptions {
               "direct: our one-step Gauss-Newton, Cholesky by CHOLMOD (exact); sparse: Ceres' sparse "
               "Cholesky (exact); cgnr: Ceres' conjugate gradients (memory linear in the constraints)");
     F2C_FIELD(v, max_linear_iterations, "--linear-iterations", AtLeast(1), "cgnr: iterations per step");
+    F2C_FIELD(v, pcg_min_poses, "--pcg-min-frames", AtLeast(0),
+              "direct: the joint step by coarse-preconditioned conjugate gradients from this many frames (0: never)");
+    F2C_FIELD(v, pcg_spacing, "--pcg-spacing", AtLeast(1),
+              "...a control frame of the coarse space every this many frames");
     F2C_FIELD(v, fix_first_pose, "--fix-first-pose", {},
               "hold frame 0 during each solve (else it moves with the rest and the poses are re-anchored)");
     F2C_FIELD(v, threads, "--solver-threads", AtLeast(0), "Ceres threads (0: as --threads)");
@@ -206,7 +217,8 @@ struct SolveSummary {
   int iterations = 0;       // steps tried (ours), or Ceres iterations
   std::string termination;  // ours ("iteration limit", "step rejected", ...) or Ceres' termination type
   bool usable = false;
-  int linear_iterations = 0;  // conjugate-gradient iterations, summed (iterative solver)
+  int linear_iterations = 0;  // conjugate-gradient iterations, summed (iterative solvers)
+  int factorizations = 0;     // our one-step solve's Cholesky factorizations (joint step)
   int plane_presolve_iterations = 0;
   int damped_steps = 0;  // our solver's damped retries of rejected steps, presolve and step
   double seconds = 0;

@@ -275,6 +275,52 @@ ChildProxy PatchChild(int frame, const Pose& pose, const Eigen::Vector3d& normal
   return c;
 }
 
+// The joint step by conjugate gradients with the poses' coarse space (--pcg-min-frames) is
+// the Cholesky step: 40 frames, exact correspondences between frames up to three apart, each
+// frame's child of the wall x = -2 under one of two parallel parents (E_P, E_H, E_G), one
+// Gauss-Newton step from perturbed poses with the plane presolve. Fails if the coarse space,
+// the children's extension or the solve were wrong (the step would differ), or if the step
+// were not taken by conjugate gradients.
+TEST(SolvePoses, TheCoarsePreconditionedStepIsTheCholeskyStep) {
+  const int n = 40;
+  const Scene scene = MakeScene(n);
+  std::mt19937 rng(21);
+  Constraints constraints;
+  for (const FeatureCorrespondence& c : ExactCorrespondences(scene, rng)) {
+    if (std::abs(c.target_frame - c.point_frame) <= 3) constraints.correspondences.push_back(c);
+  }
+  const PoseVector start = Perturb(scene.truth, 0.02, 0.01, rng);
+  for (int f = 0; f < n; ++f) {
+    constraints.structure.children.push_back(PatchChild(
+        f, scene.truth[f], Eigen::Vector3d::UnitX(), [](double y, double z) { return Eigen::Vector3d(-2.0, y, z); }));
+    const ChildProxy& child = constraints.structure.children.back();
+    constraints.structure.links.push_back(
+        {f, f < n / 2 ? 0 : 1, start[f].rotation * child.centroid.cast<double>() + start[f].translation, 1.0f});
+  }
+  for (int p = 0; p < 2; ++p) {
+    const Eigen::Vector3d centre(-2.0, p, 1.0);
+    constraints.structure.parents.push_back({Eigen::Vector3d::UnitX(), -2.0, centre});
+  }
+  constraints.structure.relations.push_back({0, 1, RelationType::kParallel, 1.0f});
+  SolverOptions options;
+  options.pcg_min_poses = 0;
+  PoseVector direct = start;
+  const SolveSummary d = SolvePoses(constraints, options, &direct);
+  options.pcg_min_poses = n;
+  options.pcg_spacing = 4;
+  PoseVector iterative = start;
+  const SolveSummary s = SolvePoses(constraints, options, &iterative);
+  ASSERT_TRUE(d.usable && s.usable) << d.termination << " / " << s.termination;
+  EXPECT_EQ(d.linear_iterations, 0);
+  EXPECT_GT(s.linear_iterations, 0);
+  EXPECT_EQ(s.factorizations, 0);
+  EXPECT_LT(MaxTranslationError(direct, start), 0.5) << "the step moved the poses";
+  EXPECT_GT(MaxTranslationError(direct, start), 1e-3);
+  EXPECT_LT(MaxTranslationError(direct, iterative), 1e-7);
+  EXPECT_LT(MaxRotationErrorDeg(direct, iterative), 1e-5);
+  EXPECT_NEAR(s.cost_after.at(Term::kC), d.cost_after.at(Term::kC), 1e-6 * d.cost_after.at(Term::kC));
+}
+
 // The structural model on its own: frame 0 sees the wall x = 0, frame 1 the facing wall
 // x = 3, and nothing else ties them. Frame 1 starts turned 2 degrees about the vertical.
 // Its children fit its image (E_P), each child has its own parent (E_H), and one antiparallel
