@@ -38,6 +38,14 @@ class BlockSymmetricMatrix {
   void Add(int a, int b, int offset, const double* block);
   // Block (a, b), a <= b, of an existing pattern entry.
   Eigen::MatrixXd Block(int a, int b) const;
+  // The k-th block of block column b (its row is rows(b)[k]), in place.
+  using ConstBlock = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
+  ConstBlock BlockAt(int b, int k) const {
+    const int first = column_pointers_[start_[b]];
+    const int stride = column_pointers_[start_[b] + 1] - first;  // b's columns are equally long
+    return ConstBlock(values_.data() + first + offsets_[b][k], tangent_[rows_[b][k]], tangent_[b],
+                      Eigen::OuterStride<>(stride));
+  }
 
   // H's diagonal, and setting it (each column's entry on its own row).
   Eigen::VectorXd Diagonal() const;

@@ -1,5 +1,7 @@
 #include "f2c/optim/coarse_pcg.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <utility>
@@ -144,8 +146,8 @@ bool TwoLevelPcg::Setup(const BlockSymmetricMatrix& h) {
 
   // Each extended variable's basis: where its neighbours' coarse motion leaves it at least
   // energy with everything else held, -H_vv^-1 sum_a H_va B_a (a harmonic extension).
-  for (int v = 0; v < nv; ++v) {
-    if (neighbours_[v].empty()) continue;
+  tbb::parallel_for(0, nv, [&](int v) {  // each writes its own basis
+    if (neighbours_[v].empty()) return;
     for (CoarseBasis& c : basis_[v]) c.basis.setZero();
     for (int a : neighbours_[v]) {
       const Eigen::MatrixXd hva = a < v ? Eigen::MatrixXd(h.Block(a, v).transpose()) : h.Block(v, a);
@@ -158,7 +160,7 @@ bool TwoLevelPcg::Setup(const BlockSymmetricMatrix& h) {
     const Eigen::MatrixXd hvv = h.Block(v, v).selfadjointView<Eigen::Upper>();
     const Eigen::LDLT<Eigen::MatrixXd> ldlt(hvv);
     for (CoarseBasis& c : basis_[v]) c.basis = ldlt.solve(c.basis);
-  }
+  });
 
   // B^T H B, block by block: H's block (a, b), a <= b, stands for itself and, off the
   // diagonal, for its transpose at (b, a).
@@ -166,23 +168,32 @@ bool TwoLevelPcg::Setup(const BlockSymmetricMatrix& h) {
   auto add = [&](int c, int d, const Eigen::MatrixXd& m) {  // m at coarse (c, d), c <= d
     coarse_->Add(c, d, coarse_->Offset(c, d), m.data());
   };
+  auto add_transposed = [&](int c, int d, const Eigen::MatrixXd& m) {
+    const Eigen::MatrixXd t = m.transpose();
+    add(c, d, t);
+  };
+  Eigen::MatrixXd hab, hb, x;  // reused: most blocks have the same shapes
   for (int b = 0; b < nv; ++b) {
     if (start[b] < 0) continue;
-    for (int a : h.rows(b)) {
-      Eigen::MatrixXd hab = h.Block(a, b);
+    const std::vector<int>& rows = h.rows(b);
+    for (size_t k = 0; k < rows.size(); ++k) {
+      const int a = rows[k];
+      hab = h.BlockAt(b, static_cast<int>(k));
       if (a == b) hab = hab.selfadjointView<Eigen::Upper>();
-      for (const CoarseBasis& ca : basis_[a]) {
-        for (const CoarseBasis& cb : basis_[b]) {
+      for (const CoarseBasis& cb : basis_[b]) {
+        hb.noalias() = hab * cb.basis;
+        for (const CoarseBasis& ca : basis_[a]) {
           if (a == b && ca.block > cb.block) continue;  // the lower half of a diagonal block
-          const Eigen::MatrixXd x = ca.basis.transpose() * hab * cb.basis;
+          x.noalias() = ca.basis.transpose() * hb;
           if (ca.block < cb.block) {
             add(ca.block, cb.block, x);
           } else if (ca.block > cb.block) {
-            add(cb.block, ca.block, x.transpose());
+            add_transposed(cb.block, ca.block, x);
           } else if (a == b) {
             add(ca.block, ca.block, x);
           } else {
-            add(ca.block, ca.block, x + x.transpose());
+            add(ca.block, ca.block, x);
+            add_transposed(ca.block, ca.block, x);
           }
         }
       }
@@ -190,7 +201,9 @@ bool TwoLevelPcg::Setup(const BlockSymmetricMatrix& h) {
   }
   if (!coarse_cholesky_->Factorize(coarse_.get())) return false;
 
-  for (size_t k = 0; k < group_members_.size(); ++k) {
+  // Each group's block of H, factored densely; the groups in parallel (each writes its own).
+  std::vector<char> factored(group_members_.size(), 0);
+  tbb::parallel_for(size_t{0}, group_members_.size(), [&](size_t k) {
     const std::vector<int>& vars = group_members_[k];
     Group& group = groups_[k];
     group.columns.clear();
@@ -204,24 +217,27 @@ bool TwoLevelPcg::Setup(const BlockSymmetricMatrix& h) {
     for (size_t j = 0; j < vars.size(); ++j) {
       const std::vector<int>& rows = h.rows(vars[j]);
       for (size_t i = 0; i <= j; ++i) {
-        if (!std::binary_search(rows.begin(), rows.end(), vars[i])) continue;
-        dense.block(offset[i], offset[j], tangent[vars[i]], tangent[vars[j]]) = h.Block(vars[i], vars[j]);
+        const auto it = std::lower_bound(rows.begin(), rows.end(), vars[i]);
+        if (it == rows.end() || *it != vars[i]) continue;
+        dense.block(offset[i], offset[j], tangent[vars[i]], tangent[vars[j]]) =
+            h.BlockAt(vars[j], static_cast<int>(it - rows.begin()));
       }
     }
     group.llt.compute(dense.selfadjointView<Eigen::Upper>());
-    if (group.llt.info() != Eigen::Success) return false;
-  }
-  return true;
+    factored[k] = group.llt.info() == Eigen::Success;
+  });
+  return std::find(factored.begin(), factored.end(), 0) == factored.end();
 }
 
 Eigen::VectorXd TwoLevelPcg::Smooth(const Eigen::VectorXd& r) const {
   Eigen::VectorXd z(r.size());
-  for (const Group& group : groups_) {
+  tbb::parallel_for(size_t{0}, groups_.size(), [&](size_t g) {  // disjoint columns
+    const Group& group = groups_[g];
     Eigen::VectorXd local(group.columns.size());
     for (size_t k = 0; k < group.columns.size(); ++k) local[k] = r[group.columns[k]];
     local = group.llt.solve(local);
     for (size_t k = 0; k < group.columns.size(); ++k) z[group.columns[k]] = local[k];
-  }
+  });
   return z;
 }
 
