@@ -243,6 +243,14 @@ TEST(Cli, FilesystemAndOversizedImagesAreOneLineErrors) {
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(r.output, "error: " + depths.front().string() +
                           ": PNG of 100000 x 100000 pixels: over the 32-megapixel limit for RGB-D frames\n");
+  // The same from a 20-byte PGM header that OpenCV's decoder reads (30000 x 30000): refused
+  // by OpenCV's own limit, which we set to ours (without it OpenCV allocated 2.7 GB and then
+  // said "Unexpected end of input stream").
+  WriteFileAtomic(depths.front(), "P5\n30000 30000\n255\nabc");
+  r = RunCli("info " + big.string() + " --intrinsics 525,525,319.5,239.5");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.output, "error: " + depths.front().string() +
+                          ": corrupt image: its header claims over the 32-megapixel limit for RGB-D frames\n");
   // The output folder's cache is a file.
   const fs::path good = SyntheticTum("cli_fs_good", 3);
   const fs::path blocked = testing::FreshTempDir("cli_fs_blocked");

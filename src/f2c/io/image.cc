@@ -8,6 +8,7 @@
 #include <string_view>
 #include <tuple>
 #include <filesystem>
+#include <cstdlib>
 #include <string>
 #include <vector>
 #include <cstring>
@@ -59,6 +60,11 @@ OpenCvDecode OpenCvDecoder() {
           (std::filesystem::path(std::string(exe, n)).parent_path() / F2C_OPENCV_CODECS_NAME).string());
     }
     candidates.push_back(F2C_OPENCV_CODECS_NAME);  // the loader's own search path
+    // OpenCV allocates what a header claims, up to a gigapixel by default: a damaged PNM or
+    // BMP header of 20 bytes made it allocate 2.7 GB (found by fuzz_images). Its limit is
+    // read when imgcodecs loads, so it is set before (unless the user set it), to the
+    // 32-megapixel limit of our own PNG and JPEG decoders.
+    ::setenv("OPENCV_IO_MAX_IMAGE_PIXELS", "33554432", /*overwrite=*/0);
     for (const std::string& candidate : candidates) {
       if (void* library = ::dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL)) {
         return reinterpret_cast<OpenCvDecode>(::dlsym(library, "f2c_opencv_imdecode"));
@@ -98,6 +104,9 @@ cv::Mat DecodeImageBytes(const std::string& bytes, const std::string& path, int 
   char reason[256] = {};
   if (!decode(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), flags, &image, reason,
               sizeof(reason))) {
+    if (std::string_view(reason).find("CV_IO_MAX_IMAGE_PIXELS") != std::string_view::npos) {
+      ThrowInputError(path, "corrupt image: its header claims over the 32-megapixel limit for RGB-D frames");
+    }
     ThrowInputError(path, reason[0] != '\0' ? std::string("corrupt image: ") + reason
                                             : std::string("cannot decode image (corrupt or not an image)"));
   }
