@@ -111,13 +111,8 @@ void BlockSymmetricMatrix::Add(int a, int b, int offset, const double* block) {
 }
 
 Eigen::MatrixXd BlockSymmetricMatrix::Block(int a, int b) const {
-  const int offset = Offset(a, b);
-  Eigen::MatrixXd block(tangent_[a], tangent_[b]);
-  for (int q = 0; q < tangent_[b]; ++q) {
-    const double* column = values_.data() + column_pointers_[start_[b] + q] + offset;
-    for (int p = 0; p < tangent_[a]; ++p) block(p, q) = column[p];
-  }
-  return block;
+  const std::vector<int>& r = rows_[b];
+  return BlockAt(b, static_cast<int>(std::lower_bound(r.begin(), r.end(), a) - r.begin()));
 }
 
 Eigen::VectorXd BlockSymmetricMatrix::Diagonal() const {
