@@ -26,6 +26,7 @@
 #include <ceres/loss_function.h>
 #include <ceres/manifold.h>
 
+#include <cstddef>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -79,6 +80,11 @@ struct GaussNewtonOptions {
   const CoarseSpace* coarse = nullptr;
   TwoLevelPcgOptions pcg;
   double pcg_accept = 1e-3;
+  // The residual blocks are linearised a chunk of at most this many doubles at a time (a
+  // chunk holds at least one block), each summed into the normal equations before the next:
+  // the same sums in the same order as one buffer for all, in memory that does not grow
+  // with the scan.
+  size_t linearisation_chunk = size_t{1} << 21;
 };
 
 struct GaussNewtonSummary {

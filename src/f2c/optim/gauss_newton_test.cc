@@ -278,7 +278,7 @@ struct ChainProblem {
     }
   }
 
-  GaussNewtonSummary Solve(int threads) {
+  GaussNewtonSummary Solve(int threads, size_t chunk = GaussNewtonOptions().linearisation_chunk) {
     GaussNewtonProblem problem;
     for (Pose& p : poses) {
       problem.AddVariable(p.rotation_data(), 4, &quaternion, false);
@@ -286,6 +286,7 @@ struct ChainProblem {
     }
     GaussNewtonOptions options;
     options.max_iterations = 3;
+    options.linearisation_chunk = chunk;
     GaussNewtonSummary summary;
     tbb::task_arena arena(threads);
     arena.execute([&] { summary = problem.Solve(residuals, options); });
@@ -307,6 +308,24 @@ TEST(GaussNewton, TheStepDoesNotDependOnTheThreads) {
     EXPECT_EQ(one.poses[i].rotation.coeffs(), four.poses[i].rotation.coeffs()) << i;
     EXPECT_EQ(one.poses[i].translation, four.poses[i].translation) << i;
     moved = std::max(moved, (one.poses[i].translation - start.poses[i].translation).norm());
+  }
+  EXPECT_GT(moved, 1e-3);
+}
+
+// Linearised one block at a time (each block its own chunk, summed into H before the next
+// is linearised) or all at once: the same steps, bit for bit.
+TEST(GaussNewton, TheStepDoesNotDependOnTheLinearisationChunk) {
+  ChainProblem whole(400), blockwise(400), start(400);
+  const GaussNewtonSummary a = whole.Solve(2);
+  const GaussNewtonSummary b = blockwise.Solve(2, /*chunk=*/1);
+  ASSERT_EQ(a.accepted, 3) << a.termination;
+  EXPECT_EQ(b.accepted, 3) << b.termination;
+  EXPECT_EQ(a.final_cost, b.final_cost);
+  double moved = 0;
+  for (size_t i = 0; i < whole.poses.size(); ++i) {
+    EXPECT_EQ(whole.poses[i].rotation.coeffs(), blockwise.poses[i].rotation.coeffs()) << i;
+    EXPECT_EQ(whole.poses[i].translation, blockwise.poses[i].translation) << i;
+    moved = std::max(moved, (whole.poses[i].translation - start.poses[i].translation).norm());
   }
   EXPECT_GT(moved, 1e-3);
 }

@@ -333,19 +333,24 @@ void FineToCoarse::CheckIteration(const PoseVector& before, IterationSummary* s)
   Timer stage;
   std::vector<FramePair> pairs_before = check_cache_.For(index_, before, intrinsics_, options_.pairs);
   std::vector<FramePair> pairs_after = WholeScanPairs(index_, result_.poses, intrinsics_, options_.pairs);
-  const std::vector<FramePair> check_pairs = UnitePairs(pairs_before, pairs_after);
+  std::vector<FramePair> check_pairs = UnitePairs(pairs_before, pairs_after);
+  const int n_pairs = static_cast<int>(check_pairs.size());
+  const double max_depth = options_.pairs.max_depth;
   SelfCheckRecord& c = s->self_check;
   c.done = true;
-  c.before = ScoreHeldOut(check_pairs, index_, before, intrinsics_, options_.self_check, options_.pairs.max_depth);
-  c.after =
-      ScoreHeldOut(check_pairs, index_, result_.poses, intrinsics_, options_.self_check, options_.pairs.max_depth);
+  std::vector<PairShare> shares_before =
+      check_cache_.Shares(check_pairs, index_, before, intrinsics_, options_.self_check, max_depth);
+  std::vector<PairShare> shares_after =
+      SharesOfPairs(check_pairs, index_, result_.poses, intrinsics_, options_.self_check, max_depth);
+  c.before = SumShares(shares_before, n_pairs);
+  c.after = SumShares(shares_after, n_pairs);
   if (c.after.score > (1 + options_.self_check.tolerance) * c.before.score) {
     c.undone = true;
     ++result_.undone_iterations;
     result_.poses = before;
-    check_cache_.Keep(before, std::move(pairs_before));
+    check_cache_.Keep(before, std::move(pairs_before), std::move(check_pairs), std::move(shares_before));
   } else {
-    check_cache_.Keep(result_.poses, std::move(pairs_after));
+    check_cache_.Keep(result_.poses, std::move(pairs_after), std::move(check_pairs), std::move(shares_after));
   }
   s->seconds_check = stage.Seconds();
 }
@@ -384,9 +389,11 @@ void FineToCoarse::CheckWholeRun() {
   SelfCheckRecord& r = result_.self_check;
   const std::vector<FramePair> pairs = UnitePairs(WholeScanPairs(index_, start_, intrinsics_, options_.pairs),
                                                   check_cache_.For(index_, result_.poses, intrinsics_, options_.pairs));
+  const double max_depth = options_.pairs.max_depth;
   r.done = true;
-  r.before = ScoreHeldOut(pairs, index_, start_, intrinsics_, options_.self_check, options_.pairs.max_depth);
-  r.after = ScoreHeldOut(pairs, index_, result_.poses, intrinsics_, options_.self_check, options_.pairs.max_depth);
+  r.before = ScoreHeldOut(pairs, index_, start_, intrinsics_, options_.self_check, max_depth);
+  r.after = SumShares(check_cache_.Shares(pairs, index_, result_.poses, intrinsics_, options_.self_check, max_depth),
+                      static_cast<int>(pairs.size()));
   if (r.after.score > (1 + options_.self_check.run_tolerance) * r.before.score) {
     r.undone = true;
     result_.poses = start_;

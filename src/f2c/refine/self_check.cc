@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "f2c/refine/windows.h"
+#include "f2c/util/error.h"
 
 namespace f2c {
 
@@ -25,20 +26,18 @@ bool HeldOut(int frame, int feature, int every) {
 
 double SelfCheckScore::Rms() const { return std::sqrt(score); }
 
-SelfCheckScore ScoreHeldOut(const std::vector<FramePair>& pairs, const FeatureIndex& index, const PoseVector& poses,
-                            const CameraIntrinsics& k, const SelfCheckOptions& options, double max_depth) {
-  struct Partial {
-    double sum = 0;
-    int64_t points = 0, agreeing = 0;
-  };
-  std::vector<Partial> partial(pairs.size());
+std::vector<PairShare> SharesOfPairs(const std::vector<FramePair>& pairs, const FeatureIndex& index,
+                                     const PoseVector& poses, const CameraIntrinsics& k,
+                                     const SelfCheckOptions& options, double max_depth, const std::vector<char>* skip) {
+  std::vector<PairShare> partial(pairs.size());
   const float tau2 = static_cast<float>(options.tau * options.tau);
   const float radius2 = static_cast<float>(options.search_radius * options.search_radius);
   const float min_cos = static_cast<float>(std::cos(options.max_angle_deg * M_PI / 180));
   tbb::parallel_for(0, static_cast<int>(pairs.size()), [&](int p) {
+    if (skip != nullptr && (*skip)[p]) return;
     uint32_t nearest[64];
     float d2[64];
-    Partial& out = partial[p];
+    PairShare& out = partial[p];
     for (int side = 0; side < 2; ++side) {
       const int source = side == 0 ? pairs[p].a : pairs[p].b;
       const int target = side == 0 ? pairs[p].b : pairs[p].a;
@@ -77,16 +76,25 @@ SelfCheckScore ScoreHeldOut(const std::vector<FramePair>& pairs, const FeatureIn
       }
     }
   });
+  return partial;
+}
+
+SelfCheckScore SumShares(const std::vector<PairShare>& shares, int pairs) {
   SelfCheckScore s;
   double sum = 0;
-  for (const Partial& p : partial) {  // in pair order: the same sum for any thread count
+  for (const PairShare& p : shares) {  // in pair order: the same sum for any thread count
     sum += p.sum;
     s.points += p.points;
     s.agreeing += p.agreeing;
   }
-  s.pairs = static_cast<int>(pairs.size());
+  s.pairs = pairs;
   s.score = s.points > 0 ? sum / s.points : 0;
   return s;
+}
+
+SelfCheckScore ScoreHeldOut(const std::vector<FramePair>& pairs, const FeatureIndex& index, const PoseVector& poses,
+                            const CameraIntrinsics& k, const SelfCheckOptions& options, double max_depth) {
+  return SumShares(SharesOfPairs(pairs, index, poses, k, options, max_depth), static_cast<int>(pairs.size()));
 }
 
 std::vector<FramePair> WholeScanPairs(const FeatureIndex& index, const PoseVector& poses,
@@ -108,18 +116,54 @@ std::vector<FramePair> UnitePairs(std::vector<FramePair> a, const std::vector<Fr
   return a;
 }
 
-std::vector<FramePair> CheckPairCache::For(const FeatureIndex& index, const PoseVector& query,
-                                           const CameraIntrinsics& intrinsics, const PairOptions& options) const {
+namespace {
+
+bool SamePoses(const PoseVector& a, const PoseVector& b) {
   auto same = [](const Pose& x, const Pose& y) {
     return x.translation == y.translation && x.rotation.coeffs() == y.rotation.coeffs();
   };
-  if (query.size() == poses.size() && std::equal(query.begin(), query.end(), poses.begin(), same)) return pairs;
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), same);
+}
+
+}  // namespace
+
+std::vector<FramePair> CheckPairCache::For(const FeatureIndex& index, const PoseVector& query,
+                                           const CameraIntrinsics& intrinsics, const PairOptions& options) const {
+  if (SamePoses(query, poses)) return pairs;
   return WholeScanPairs(index, query, intrinsics, options);
 }
 
-void CheckPairCache::Keep(const PoseVector& kept_poses, std::vector<FramePair> kept_pairs) {
+std::vector<PairShare> CheckPairCache::Shares(const std::vector<FramePair>& check, const FeatureIndex& index,
+                                              const PoseVector& query, const CameraIntrinsics& intrinsics,
+                                              const SelfCheckOptions& options, double max_depth) const {
+  if (!SamePoses(query, poses) || scored.empty()) {
+    return SharesOfPairs(check, index, query, intrinsics, options, max_depth);
+  }
+  // Both lists sorted by (a, b): one merge finds each kept share.
+  std::vector<char> known(check.size(), 0);
+  std::vector<PairShare> kept(check.size());
+  auto key = [](const FramePair& p) { return std::pair(p.a, p.b); };
+  for (size_t i = 0, j = 0; i < check.size(); ++i) {
+    while (j < scored.size() && key(scored[j]) < key(check[i])) ++j;
+    if (j < scored.size() && key(scored[j]) == key(check[i])) {
+      known[i] = 1;
+      kept[i] = shares[j];
+    }
+  }
+  std::vector<PairShare> fresh = SharesOfPairs(check, index, query, intrinsics, options, max_depth, &known);
+  for (size_t i = 0; i < check.size(); ++i) {
+    if (known[i]) fresh[i] = kept[i];
+  }
+  return fresh;
+}
+
+void CheckPairCache::Keep(const PoseVector& kept_poses, std::vector<FramePair> kept_pairs,
+                          std::vector<FramePair> kept_scored, std::vector<PairShare> kept_shares) {
+  F2C_CHECK(kept_scored.size() == kept_shares.size(), "one share per scored pair");
   poses = kept_poses;
   pairs = std::move(kept_pairs);
+  scored = std::move(kept_scored);
+  shares = std::move(kept_shares);
 }
 
 nlohmann::json ToJson(const SelfCheckRecord& r) {

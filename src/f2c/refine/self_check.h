@@ -85,6 +85,22 @@ struct SelfCheckScore {
   double Rms() const;  // sqrt(S), metres
 };
 
+// One pair's share of S: its measured features' truncated squares, their count, and how many
+// of them agree within tau.
+struct PairShare {
+  double sum = 0;
+  int64_t points = 0, agreeing = 0;
+};
+
+// Each pair's share of S under `poses`; where `skip` is given, the pairs it marks are left
+// at zero.
+std::vector<PairShare> SharesOfPairs(const std::vector<FramePair>& pairs, const FeatureIndex& index,
+                                     const PoseVector& poses, const CameraIntrinsics& intrinsics,
+                                     const SelfCheckOptions& options, double max_depth,
+                                     const std::vector<char>* skip = nullptr);
+// S from the shares of `pairs` pairs, summed in their order.
+SelfCheckScore SumShares(const std::vector<PairShare>& shares, int pairs);
+
 // S of `poses` over `pairs` (refine/pairs.h's, any window).
 SelfCheckScore ScoreHeldOut(const std::vector<FramePair>& pairs, const FeatureIndex& index, const PoseVector& poses,
                             const CameraIntrinsics& intrinsics, const SelfCheckOptions& options, double max_depth);
@@ -95,15 +111,27 @@ std::vector<FramePair> WholeScanPairs(const FeatureIndex& index, const PoseVecto
 // Both lists' pairs, sorted by (a, b), each once.
 std::vector<FramePair> UnitePairs(std::vector<FramePair> a, const std::vector<FramePair>& b);
 
-// The whole-scan pairs of the poses an iteration starts from, kept from the end of the last
-// one: the poses are the same unless something moved them in between (the loops' presolve).
+// What the check knows of the poses an iteration starts from, kept from the end of the last
+// one: the whole-scan pairs under them and the shares of S of the pairs it scored under them.
+// The poses are the same unless something moved them in between (the loops' presolve). An
+// iteration's check scores each pair before and after; the shares before are the last
+// iteration's shares after, so only the pairs new to it are scored again (half the check's
+// cost), and each pair's share is the same number either way.
 struct CheckPairCache {
   PoseVector poses;
   std::vector<FramePair> pairs;
+  std::vector<FramePair> scored;  // sorted by (a, b), each once
+  std::vector<PairShare> shares;  // of `scored`, under `poses`
   // The pairs under `poses`, searched only when they are not the kept poses.
   std::vector<FramePair> For(const FeatureIndex& index, const PoseVector& poses, const CameraIntrinsics& intrinsics,
                              const PairOptions& options) const;
-  void Keep(const PoseVector& kept_poses, std::vector<FramePair> kept_pairs);
+  // The shares of `check` (sorted by (a, b), each once) under `query`: the kept ones where
+  // `query` are the kept poses, the others scored.
+  std::vector<PairShare> Shares(const std::vector<FramePair>& check, const FeatureIndex& index, const PoseVector& query,
+                                const CameraIntrinsics& intrinsics, const SelfCheckOptions& options,
+                                double max_depth) const;
+  void Keep(const PoseVector& kept_poses, std::vector<FramePair> kept_pairs, std::vector<FramePair> kept_scored = {},
+            std::vector<PairShare> kept_shares = {});
 };
 
 // One iteration's check.

@@ -103,6 +103,39 @@ TEST(CheckPairCache, ReusesThePairsOfTheSamePosesOnly) {
   EXPECT_EQ(std::pair(fresh[0].a, fresh[0].b), std::pair(0, 1));
 }
 
+// The shares of pairs scored under the kept poses are taken as kept; a pair not scored, or
+// other poses, are scored.
+TEST(CheckPairCache, ReusesTheSharesOfTheSamePosesOnly) {
+  const FeatureIndex index = TwoViewsOfAWall({0, 0, -0.01f});
+  const SelfCheckOptions o;
+  const std::vector<FramePair> pairs = {{0, 1, 1.0f}};
+  const std::vector<PairShare> scored = SharesOfPairs(pairs, index, TruePoses(), kCamera, o, 5.0);
+  ASSERT_EQ(scored.size(), 1u);
+  ASSERT_GT(scored[0].points, 0);
+  ASSERT_GT(scored[0].sum, 0);
+  EXPECT_EQ(SumShares(scored, 1).score, ScoreHeldOut(pairs, index, TruePoses(), kCamera, o, 5.0).score);
+  CheckPairCache cache;
+  PairShare marked;  // not what scoring gives
+  marked.sum = 7;
+  marked.points = 3;
+  cache.Keep(TruePoses(), pairs, pairs, {marked});
+  const std::vector<PairShare> reused = cache.Shares(pairs, index, TruePoses(), kCamera, o, 5.0);
+  ASSERT_EQ(reused.size(), 1u);
+  EXPECT_EQ(reused[0].sum, 7);
+  EXPECT_EQ(reused[0].points, 3);
+  PoseVector moved = TruePoses();
+  moved[1].translation.y() += 1e-9;
+  const std::vector<PairShare> rescored = cache.Shares(pairs, index, moved, kCamera, o, 5.0);
+  ASSERT_EQ(rescored.size(), 1u);
+  EXPECT_EQ(rescored[0].points, scored[0].points);
+  EXPECT_NEAR(rescored[0].sum, scored[0].sum, 1e-9);
+  // A pair the cache did not score is scored, beside the kept one.
+  cache.Keep(TruePoses(), pairs, {{0, 2, 1.0f}}, {marked});
+  const std::vector<PairShare> unknown = cache.Shares(pairs, index, TruePoses(), kCamera, o, 5.0);
+  EXPECT_EQ(unknown[0].sum, scored[0].sum);
+  EXPECT_EQ(unknown[0].points, scored[0].points);
+}
+
 // E_C never sees a held-out feature: it is neither a correspondence's point nor its target.
 TEST(FindCorrespondences, LeavesHeldOutFeaturesAlone) {
   const FeatureIndex index = TwoViewsOfAWall(Eigen::Vector3f::Zero());
