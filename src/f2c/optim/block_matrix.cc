@@ -2,9 +2,6 @@
 
 #include <cholmod.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 
 namespace f2c {
@@ -128,43 +125,16 @@ void BlockSymmetricMatrix::SetDiagonal(const Eigen::VectorXd& d) {
   for (int c = 0; c < d.size(); ++c) values_[DiagonalIndex(c)] = d[c];
 }
 
-// Each y[c] gathers column c's upper part (rows r <= c) and row c's entries right of the
-// diagonal (from the transposed index, built at the first product), so the entries are
-// computed in parallel, each one's sum in a fixed order.
 Eigen::VectorXd BlockSymmetricMatrix::Multiply(const Eigen::VectorXd& x) const {
-  const int n = size();
-  if (right_pointers_.empty()) {
-    right_pointers_.assign(n + 1, 0);
-    for (int c = 0; c < n; ++c) {
-      for (int k = column_pointers_[c]; k < column_pointers_[c + 1]; ++k) {
-        if (row_indices_[k] < c) ++right_pointers_[row_indices_[k] + 1];
-      }
-    }
-    for (int r = 0; r < n; ++r) right_pointers_[r + 1] += right_pointers_[r];
-    right_entries_.resize(right_pointers_[n]);
-    std::vector<int> next(right_pointers_.begin(), right_pointers_.end() - 1);
-    for (int c = 0; c < n; ++c) {  // ascending columns: each row's entries in column order
-      for (int k = column_pointers_[c]; k < column_pointers_[c + 1]; ++k) {
-        const int r = row_indices_[k];
-        if (r < c) right_entries_[next[r]++] = {k, c};
-      }
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(x.size());
+  for (int c = 0; c < size(); ++c) {
+    for (int k = column_pointers_[c]; k < column_pointers_[c + 1]; ++k) {
+      const int r = row_indices_[k];
+      if (r > c) continue;  // the lower part of a diagonal block
+      y[r] += values_[k] * x[c];
+      if (r < c) y[c] += values_[k] * x[r];
     }
   }
-  Eigen::VectorXd y(x.size());
-  tbb::parallel_for(tbb::blocked_range<int>(0, n, 256), [&](const tbb::blocked_range<int>& range) {
-    for (int c = range.begin(); c != range.end(); ++c) {
-      double sum = 0;
-      for (int k = column_pointers_[c]; k < column_pointers_[c + 1]; ++k) {
-        const int r = row_indices_[k];
-        if (r > c) break;  // rows ascend: the rest is the lower part of a diagonal block
-        sum += values_[k] * x[r];
-      }
-      for (int e = right_pointers_[c]; e < right_pointers_[c + 1]; ++e) {
-        sum += values_[right_entries_[e].first] * x[right_entries_[e].second];
-      }
-      y[c] = sum;
-    }
-  });
   return y;
 }
 

@@ -6,7 +6,6 @@
 
 #include <Eigen/Core>
 #include <memory>
-#include <utility>
 #include <vector>
 
 namespace f2c {
@@ -67,9 +66,6 @@ class BlockSymmetricMatrix {
   std::vector<std::vector<int>> offsets_;           // per block column: each block row's first scalar row
   std::vector<int> column_pointers_, row_indices_;  // rows within a column ascend
   std::vector<double> values_;
-  // Row r's entries right of the diagonal (value index, column), for Multiply.
-  mutable std::vector<int> right_pointers_;
-  mutable std::vector<std::pair<int, int>> right_entries_;
 };
 
 // H x = b by CHOLMOD's supernodal or simplicial Cholesky (H from its upper triangle). The

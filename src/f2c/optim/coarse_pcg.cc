@@ -1,7 +1,6 @@
 #include "f2c/optim/coarse_pcg.h"
 
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -75,10 +74,6 @@ void TwoLevelPcg::BuildStructure(const BlockSymmetricMatrix& h) {
   for (int v = 0; v < nv; ++v) {
     if (start[v] < 0 || given[v]) continue;
     for (int c : blocks_of(v)) basis_[v].push_back({c, Eigen::MatrixXd::Zero(tangent[v], coarse_tangent_[c])});
-  }
-  restriction_.assign(coarse_tangent_.size(), {});
-  for (int v = 0; v < nv; ++v) {
-    for (size_t k = 0; k < basis_[v].size(); ++k) restriction_[basis_[v][k].block].push_back({v, static_cast<int>(k)});
   }
   coarse_start_.assign(coarse_tangent_.size(), 0);
   coarse_columns_ = 0;
@@ -248,33 +243,26 @@ Eigen::VectorXd TwoLevelPcg::Smooth(const Eigen::VectorXd& r) const {
 
 Eigen::VectorXd TwoLevelPcg::Coarse(const Eigen::VectorXd& r) const {
   const std::vector<int>& start = *start_;
-  Eigen::VectorXd rc(coarse_columns_);
-  tbb::parallel_for(size_t{0}, restriction_.size(), [&](size_t c) {  // each block its own rows
-    auto out = rc.segment(coarse_start_[c], coarse_tangent_[c]);
-    out.setZero();
-    for (const auto& [v, k] : restriction_[c]) {
-      const CoarseBasis& basis = basis_[v][k];
-      out.noalias() += basis.basis.transpose() * r.segment(start[v], basis.basis.rows());
+  Eigen::VectorXd rc = Eigen::VectorXd::Zero(coarse_columns_);
+  for (size_t v = 0; v < basis_.size(); ++v) {
+    for (const CoarseBasis& c : basis_[v]) {
+      rc.segment(coarse_start_[c.block], coarse_tangent_[c.block]).noalias() +=
+          c.basis.transpose() * r.segment(start[v], c.basis.rows());
     }
-  });
+  }
   Eigen::VectorXd z = Eigen::VectorXd::Zero(r.size());
   Eigen::VectorXd yc;
   if (!coarse_cholesky_->Solve(rc, &yc)) return z;
-  tbb::parallel_for(size_t{0}, basis_.size(), [&](size_t v) {  // each variable its own rows
+  for (size_t v = 0; v < basis_.size(); ++v) {
     for (const CoarseBasis& c : basis_[v]) {
       z.segment(start[v], c.basis.rows()).noalias() +=
           c.basis * yc.segment(coarse_start_[c.block], coarse_tangent_[c.block]);
     }
-  });
+  }
   return z;
 }
 
-// The two levels side by side: the coarse solve (CHOLMOD's, serial) beside the groups'.
-Eigen::VectorXd TwoLevelPcg::Precondition(const Eigen::VectorXd& r) const {
-  Eigen::VectorXd smooth, coarse;
-  tbb::parallel_invoke([&] { smooth = Smooth(r); }, [&] { coarse = Coarse(r); });
-  return smooth + coarse;
-}
+Eigen::VectorXd TwoLevelPcg::Precondition(const Eigen::VectorXd& r) const { return Smooth(r) + Coarse(r); }
 
 TwoLevelPcgSummary TwoLevelPcg::Solve(const BlockSymmetricMatrix& h, const Eigen::VectorXd& b,
                                       const TwoLevelPcgOptions& options, Eigen::VectorXd* x) const {

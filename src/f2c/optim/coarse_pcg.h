@@ -21,7 +21,6 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <memory>
-#include <utility>
 #include <vector>
 
 #include "f2c/optim/block_matrix.h"
@@ -86,9 +85,6 @@ class TwoLevelPcg {
   static constexpr int kMaxExtensionBlocks = 16;
   std::vector<Group> groups_;
   std::vector<std::vector<int>> group_members_;  // each group's free variables
-  // Per coarse block, the (variable, index in its basis) pairs that map onto it, variables
-  // ascending: B^T r gathered per block, in parallel.
-  std::vector<std::vector<std::pair<int, int>>> restriction_;
   const std::vector<int>* start_ = nullptr;
 };
 

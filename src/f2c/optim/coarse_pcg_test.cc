@@ -47,30 +47,6 @@ struct ChainSystem {
   }
 };
 
-// H x from the upper triangle's blocks (the product gathers each entry's column and row in
-// parallel) is the dense symmetric product.
-TEST(BlockSymmetricMatrix, MultiplyIsTheSymmetricProduct) {
-  std::mt19937 rng(5);
-  const int n = 300;  // 900 columns: several ranges of the parallel product
-  ChainSystem system(n, rng);
-  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  for (int b = 0; b < n; ++b) {
-    for (int a : system.h->rows(b)) {
-      const Eigen::MatrixXd block = system.h->Block(a, b);
-      dense.block(3 * a, 3 * b, 3, 3) = block;
-      if (a != b) dense.block(3 * b, 3 * a, 3, 3) = block.transpose();
-    }
-  }
-  // Diagonal blocks are stored whole: their lower part must not count twice.
-  for (int v = 0; v < n; ++v)
-    dense.block(3 * v, 3 * v, 3, 3) = dense.block(3 * v, 3 * v, 3, 3).selfadjointView<Eigen::Upper>();
-  std::normal_distribution<double> g(0, 1);
-  const Eigen::VectorXd x = Eigen::VectorXd::NullaryExpr(3 * n, [&] { return g(rng); });
-  const Eigen::VectorXd expected = dense * x;
-  EXPECT_LT((system.h->Multiply(x) - expected).norm(), 1e-12 * expected.norm());
-  EXPECT_LT((system.h->Multiply(x) - expected).norm(), 1e-12 * expected.norm());  // the index, built once
-}
-
 // Controls every `spacing` variables, each variable blended between its two (3 columns each,
 // the identity); smoother groups of `group_size` consecutive variables.
 TwoLevelPcg ChainPreconditioner(int n, int spacing, int group_size = 8) {
