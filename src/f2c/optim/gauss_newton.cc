@@ -256,8 +256,8 @@ GaussNewtonSummary GaussNewtonProblem::Solve(const std::vector<GaussNewtonResidu
   // The blocks are linearised a chunk at a time into one buffer (options.linearisation_chunk),
   // each chunk summed into H and g before the next: every entry still adds its blocks in their
   // order, so the result is the same as with one buffer for all, and the buffer does not grow
-  // with the scan (at 5,000 frames one buffer for all was 120 MB, zeroed and faulted in
-  // serially at each step: a fifth of the refinement's time).
+  // with the scan (at 5,000 frames one buffer for all would be 120 MB, zeroed and faulted in
+  // by one thread at each step: measured, a fifth of the refinement's time).
   std::vector<size_t> chunk_begin{0};
   for (size_t i = 0; i < residuals.size(); ++i) {
     if (i > chunk_begin.back() && slot[i + 1] - slot[chunk_begin.back()] > options.linearisation_chunk) {
